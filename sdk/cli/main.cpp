@@ -1,0 +1,44 @@
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "mbx/mbx.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: mbx <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  translate <input> -o <dir>   translate an assembly; writes <dir>/report.json and <dir>/report.txt\n"
+    "  list                         list the built-in assemblies usable as <input>\n"
+    "\n"
+    "options:\n"
+    "  -h, --help      this help (also: mbx <command> --help)\n"
+    "  --version       print the version\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> args(argv + 1, argv + argc);
+    if (args.empty()) {
+        std::fputs(kUsage, stderr);
+        return 2;
+    }
+    const std::string& command = args[0];
+    std::vector<std::string> rest(args.begin() + 1, args.end());
+    if (command == "-h" || command == "--help" || command == "help") {
+        std::fputs(kUsage, stdout);
+        return 0;
+    }
+    if (command == "--version" || command == "version") {
+        std::printf("mbx %s (ABI %u)\n", mbx_version(), mbx_abi_version());
+        return 0;
+    }
+    if (command == "translate") return mbx_cli::run_translate(rest);
+    if (command == "list") return mbx_cli::run_list(rest);
+    std::fprintf(stderr, "mbx: unknown command '%s'\n\n%s", command.c_str(), kUsage);
+    return 2;
+}

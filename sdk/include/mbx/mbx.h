@@ -1,0 +1,528 @@
+/*
+ * mbx: turn a CAD assembly into a multibody mechanism.
+ *
+ * This header is the whole public contract of the mbx SDK. It is C99, uses no
+ * C++ types, and every function returns an mbx_status. The shared library
+ * exports only symbols that begin with "mbx_".
+ *
+ * ---------------------------------------------------------------------------
+ * ABI RULES (what a host may rely on across SDK releases)
+ * ---------------------------------------------------------------------------
+ *  1. Every struct that crosses the boundary starts with `uint32_t struct_size`.
+ *     The side that allocates the struct sets it to sizeof() as it was
+ *     compiled. Fields are only ever APPENDED to the end of a struct; existing
+ *     fields never move, change type or change meaning.
+ *  2. A struct the HOST hands to the SDK (mbx_host, options) may be smaller
+ *     than the SDK's current one: the SDK reads only the fields that lie
+ *     within struct_size and uses documented defaults for the rest.
+ *  3. A struct the SDK hands to the HOST to fill (descriptors in callbacks,
+ *     query outputs) carries the capacity in struct_size; the filler writes
+ *     only fields that lie within it (use MBX_FIELD_FITS).
+ *  4. Enum values and status codes are never renumbered; new ones are added.
+ *  5. MBX_ABI_VERSION is bumped whenever a field or function is appended.
+ *     Functions are never removed from mbx_api; new ones are appended.
+ *  6. Handles are opaque; their layout is not part of the ABI.
+ *
+ * ---------------------------------------------------------------------------
+ * THREAD SAFETY
+ * ---------------------------------------------------------------------------
+ *  Independent contexts may be used concurrently from different threads; the
+ *  SDK keeps no mutable global state. One context (and the mechanisms made
+ *  with it) must not be used from two threads at the same time. Host
+ *  callbacks are called only on the thread that called into the SDK.
+ *
+ * ---------------------------------------------------------------------------
+ * UNITS AND CONVENTIONS
+ * ---------------------------------------------------------------------------
+ *  The host delivers values in its own units and states the SI factors in
+ *  mbx_units; everything the SDK returns is SI (m, kg, kg*m^2, rad).
+ *  Rotations are 3x3 matrices stored ROW-MAJOR: rotation[3*i+j] = R(i,j); the
+ *  columns of R are the frame's axes expressed in the parent (world) frame.
+ */
+#ifndef MBX_H
+#define MBX_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#  ifdef MBX_BUILDING_LIBRARY
+#    define MBX_API __declspec(dllexport)
+#  else
+#    define MBX_API __declspec(dllimport)
+#  endif
+#else
+#  define MBX_API __attribute__((visibility("default")))
+#endif
+
+#define MBX_VERSION_MAJOR 0
+#define MBX_VERSION_MINOR 1
+#define MBX_VERSION_PATCH 0
+#define MBX_VERSION_STRING "0.1.0"
+
+/* Bumped whenever a struct field or an mbx_api function is appended. */
+#define MBX_ABI_VERSION 2u
+
+/* True when `field` of the struct pointed to by `ptr` lies within the
+ * struct_size the other side declared. */
+#define MBX_FIELD_FITS(ptr, type, field) \
+    ((ptr)->struct_size >= offsetof(type, field) + sizeof(((type *)0)->field))
+
+/* ------------------------------------------------------------------------ */
+/* Status codes                                                              */
+/* ------------------------------------------------------------------------ */
+typedef enum mbx_status {
+    MBX_OK = 0,
+    MBX_ERROR_INVALID_ARGUMENT = 1, /* NULL handle, bad struct_size, bad index */
+    MBX_ERROR_HOST_CALLBACK = 2,    /* a host callback returned non-zero */
+    MBX_ERROR_INVALID_INPUT = 3,    /* NaN, unknown reference, unusable data */
+    MBX_ERROR_CANCELLED = 4,        /* the progress callback asked to stop */
+    MBX_ERROR_IO = 5,               /* a file could not be written */
+    MBX_ERROR_OUT_OF_MEMORY = 6,
+    MBX_ERROR_VERSION = 7,          /* host table too old or from the future */
+    MBX_ERROR_INTERNAL = 8
+} mbx_status;
+
+/* Static English name of a status ("MBX_ERROR_IO"). Never NULL. */
+MBX_API const char *mbx_status_name(mbx_status status);
+
+/* Library version string, e.g. "0.1.0". */
+MBX_API const char *mbx_version(void);
+/* ABI version this library implements (MBX_ABI_VERSION it was built with). */
+MBX_API uint32_t mbx_abi_version(void);
+
+/* ------------------------------------------------------------------------ */
+/* Context and errors                                                        */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_context mbx_context;
+typedef struct mbx_mechanism mbx_mechanism;
+
+/* What a failure or a finding is about. */
+typedef enum mbx_subject_kind {
+    MBX_SUBJECT_NONE = 0,
+    MBX_SUBJECT_BODY = 1,       /* a CAD part (host body) */
+    MBX_SUBJECT_FRAME = 2,
+    MBX_SUBJECT_CONSTRAINT = 3, /* a host constraint (a CAD joint) */
+    MBX_SUBJECT_RIGID_BODY = 4, /* a translated rigid body */
+    MBX_SUBJECT_LOOP = 5,
+    MBX_SUBJECT_FILE = 6,
+    MBX_SUBJECT_MODEL = 7
+} mbx_subject_kind;
+
+typedef struct mbx_error_info {
+    uint32_t struct_size;
+    mbx_status status;
+    mbx_subject_kind subject_kind;
+    const char *subject_id;   /* stable id of the subject, "" if none */
+    const char *subject_name; /* display name, "" if none */
+    const char *file;         /* input file, "" if none */
+    int32_t line;             /* 1-based line in `file`, 0 if unknown */
+    const char *message;      /* full sentence naming the subject */
+} mbx_error_info;
+
+MBX_API mbx_status mbx_context_create(mbx_context **out_context);
+MBX_API void mbx_context_destroy(mbx_context *context);
+
+/* Message of the last failed call on this context ("" after success). The
+ * pointer stays valid until the next call on the context. */
+MBX_API const char *mbx_context_last_error(const mbx_context *context);
+/* The same failure, structured. Strings live as long as the message. */
+MBX_API mbx_status mbx_context_last_error_info(const mbx_context *context, mbx_error_info *out_info);
+
+/* Progress: `stage` is a static string ("pull bodies", "merge welds", ...),
+ * fraction in [0,1] within the stage. Return non-zero to cancel; the running
+ * call then returns MBX_ERROR_CANCELLED and produces nothing. Called at least
+ * every few milliseconds of work, never more often than it is useful. */
+typedef int (*mbx_progress_fn)(void *user_data, const char *stage, double fraction);
+MBX_API mbx_status mbx_context_set_progress(mbx_context *context, mbx_progress_fn progress, void *user_data);
+
+/* ------------------------------------------------------------------------ */
+/* Host interface: what the translator pulls from a CAD system               */
+/* ------------------------------------------------------------------------ */
+
+/* SI factors of the host's units: value_in_SI = value * factor. A factor of
+ * 0 means "already SI" (1.0). inertia 0 means mass * length^2. */
+typedef struct mbx_units {
+    double length_to_m;
+    double mass_to_kg;
+    double inertia_to_kg_m2;
+} mbx_units;
+
+typedef struct mbx_pose {
+    double position[3];
+    double rotation[9]; /* row-major, see the header comment */
+} mbx_pose;
+
+typedef enum mbx_body_flags {
+    MBX_BODY_GROUND = 1u << 0,   /* fixed to the world */
+    MBX_BODY_HELPER = 1u << 1    /* massless CAD helper (e.g. "RootPart"):
+                                    never a dynamic body of its own */
+} mbx_body_flags;
+
+/* One CAD part. Pose is in world coordinates at the assembly configuration.
+ * The centre of mass and the inertia tensor (about the centre of mass) are
+ * expressed in the body's own frame given by `pose`. */
+typedef struct mbx_body_desc {
+    uint32_t struct_size;
+    const char *id;   /* stable, unique among bodies; required */
+    const char *name; /* display name; may repeat; NULL = id */
+    uint32_t flags;   /* mbx_body_flags */
+    mbx_units units;
+    double mass;
+    double com[3];
+    double inertia[9]; /* row-major, symmetric */
+    mbx_pose pose;
+} mbx_body_desc;
+
+typedef enum mbx_frame_reference {
+    MBX_FRAME_IN_WORLD = 0, /* pose is in world coordinates */
+    MBX_FRAME_IN_BODY = 1   /* pose is relative to the owning body's pose */
+} mbx_frame_reference;
+
+typedef struct mbx_frame_desc {
+    uint32_t struct_size;
+    const char *id;      /* stable, unique among frames; required */
+    const char *name;
+    const char *body_id; /* owning body; required */
+    mbx_frame_reference reference;
+    mbx_units units;     /* only length_to_m is used */
+    mbx_pose pose;
+} mbx_frame_desc;
+
+typedef enum mbx_primitive_type {
+    MBX_PRIMITIVE_WELD = 0,
+    MBX_PRIMITIVE_PRISMATIC = 1,
+    MBX_PRIMITIVE_REVOLUTE = 2,
+    MBX_PRIMITIVE_SPHERICAL = 3
+} mbx_primitive_type;
+
+typedef enum mbx_axis_reference {
+    MBX_AXIS_IN_WORLD = 0,     /* axis components in world axes */
+    MBX_AXIS_IN_BASE_FRAME = 1 /* axis components in the base frame's axes */
+} mbx_axis_reference;
+
+/* One primitive of a constraint chain. Limits: radians for revolute; for
+ * prismatic, the length unit of the constraint's base frame. */
+typedef struct mbx_primitive_desc {
+    uint32_t struct_size;
+    mbx_primitive_type type;
+    mbx_axis_reference axis_reference;
+    double axis[3]; /* ignored for weld and spherical */
+    int32_t has_limits;
+    double lower;
+    double upper;
+} mbx_primitive_desc;
+
+/* A CAD joint: Base -> J_N ... J_1 -> Follower. Primitive index 0 is J_N
+ * (next to the base), the last one is J_1 (next to the follower). */
+typedef struct mbx_constraint_desc {
+    uint32_t struct_size;
+    const char *id;   /* stable, unique among constraints; required */
+    const char *name;
+    const char *base_frame_id;
+    const char *follower_frame_id;
+    uint32_t primitive_count; /* >= 1 */
+    const char *host_status;  /* host's diagnostic ("Could not solve..."), "" or NULL if none */
+} mbx_constraint_desc;
+
+/* Triangle mesh, in the host's length unit, expressed in `pose` relative to
+ * the owning body's frame. Arrays are only read during add_mesh. */
+typedef struct mbx_mesh_desc {
+    uint32_t struct_size;
+    const char *name;
+    mbx_units units;         /* only length_to_m is used */
+    mbx_pose pose;           /* mesh frame relative to the body frame */
+    const double *vertices;  /* 3 * vertex_count */
+    uint32_t vertex_count;
+    const uint32_t *triangles; /* 3 * triangle_count, 0-based */
+    uint32_t triangle_count;
+} mbx_mesh_desc;
+
+/* Where a host delivers the shapes of one body. */
+typedef struct mbx_shape_sink {
+    uint32_t struct_size;
+    void *sink_data;
+    /* Returns non-zero if the mesh was rejected; the host should then stop
+     * and return non-zero from get_shapes. */
+    int (*add_mesh)(void *sink_data, const mbx_mesh_desc *mesh);
+} mbx_shape_sink;
+
+#define MBX_HOST_ABI_VERSION 2u
+
+/*
+ * The callback table a CAD host implements (as sqlite3_vfs). Callbacks return
+ * 0 on success and non-zero on failure; after a failure the host may place a
+ * message in `message` (capacity `message_size`), which the SDK reports.
+ * Descriptors are zeroed by the SDK with struct_size set before the call.
+ * Strings returned inside descriptors must stay valid until the next callback
+ * into the same host; the SDK copies them.
+ *
+ * Version 1 ends at get_shapes. Version 2 appended describe_assembly.
+ * The table must stay valid, and its callbacks callable, for as long as a
+ * mechanism created from it may still ask for shapes (until
+ * mbx_mechanism_destroy or mbx_mechanism_release_host).
+ */
+typedef struct mbx_host {
+    uint32_t struct_size; /* sizeof(mbx_host) as the host was compiled */
+    uint32_t abi_version; /* MBX_HOST_ABI_VERSION the host was compiled with */
+    void *user_data;
+
+    /* --- version 1 --- */
+    int (*body_count)(void *user_data, size_t *out_count);
+    int (*get_body)(void *user_data, size_t index, mbx_body_desc *out, char *message, size_t message_size);
+    int (*frame_count)(void *user_data, size_t *out_count);
+    int (*get_frame)(void *user_data, size_t index, mbx_frame_desc *out, char *message, size_t message_size);
+    int (*constraint_count)(void *user_data, size_t *out_count);
+    int (*get_constraint)(void *user_data, size_t index, mbx_constraint_desc *out, char *message,
+                          size_t message_size);
+    int (*get_primitive)(void *user_data, size_t constraint_index, size_t primitive_index,
+                         mbx_primitive_desc *out, char *message, size_t message_size);
+    /* Optional (may be NULL): deliver the meshes of body `body_id` to `sink`.
+     * Called lazily, only when a consumer needs geometry. */
+    int (*get_shapes)(void *user_data, const char *body_id, const mbx_shape_sink *sink, char *message,
+                      size_t message_size);
+
+    /* --- version 2 --- */
+    /* Optional (may be NULL): the assembly's name and source, for reports. */
+    int (*describe_assembly)(void *user_data, const char **out_name, const char **out_source);
+} mbx_host;
+
+/* Size of the version-1 table, for hosts and tests that need it. */
+#define MBX_HOST_V1_SIZE (offsetof(mbx_host, describe_assembly))
+
+/* ------------------------------------------------------------------------ */
+/* Translation                                                               */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_translate_options {
+    uint32_t struct_size;
+    /* Positions closer than this (metres) coincide. 0 = automatic:
+     * 1e-5 times the assembly's bounding-box diagonal, at least 1e-9 m. */
+    double length_tolerance;
+    /* Rotation matrices whose max |R^T R - I| exceeds this are reported when
+     * re-orthonormalized. 0 = 1e-5 (six significant digits round to ~1e-6). */
+    double orthonormality_tolerance;
+    /* Relative singular-value threshold for the loop-closure Jacobian rank.
+     * 0 = 1e-6. */
+    double rank_tolerance;
+} mbx_translate_options;
+
+/* Pull the assembly through `host` and build the mechanism. On success
+ * *out_mechanism owns the result (findings included); on failure nothing is
+ * produced and the context's error says what and where. `options` may be
+ * NULL for defaults. */
+MBX_API mbx_status mbx_translate(mbx_context *context, const mbx_host *host,
+                                 const mbx_translate_options *options, mbx_mechanism **out_mechanism);
+
+MBX_API void mbx_mechanism_destroy(mbx_mechanism *mechanism);
+
+/* Forget the host: later shape requests fail with MBX_ERROR_INVALID_ARGUMENT.
+ * Call before the host table or its user data goes away. */
+MBX_API mbx_status mbx_mechanism_release_host(mbx_mechanism *mechanism);
+
+/* ------------------------------------------------------------------------ */
+/* Querying a mechanism (flat, index-based, as MuJoCo's mj_ API)             */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_mechanism_summary {
+    uint32_t struct_size;
+    uint32_t part_count;          /* CAD bodies pulled from the host */
+    uint32_t rigid_body_count;    /* dynamic rigid bodies after weld merging (ground excluded) */
+    uint32_t joint_node_count;    /* massless intermediate nodes of joint chains */
+    uint32_t joint_count;         /* primitive joints (tree + cut), welds excluded */
+    uint32_t revolute_count;
+    uint32_t prismatic_count;
+    uint32_t spherical_count;
+    uint32_t weld_count;          /* weld constraints merged away */
+    uint32_t cut_joint_count;
+    uint32_t loop_count;          /* independent loops = cut joints */
+    uint32_t planar_loop_count;
+    uint32_t collapsed_weld_loop_count;
+    int32_t dof;                  /* numeric mobility of the whole mechanism */
+    int32_t gruebler_dof;         /* Gruebler-Kutzbach count */
+    uint32_t redundant_constraint_count;
+    uint32_t floating_body_count; /* tree roots not attached to ground (6 DoF each) */
+    uint32_t warning_count;
+    uint32_t error_count;
+} mbx_mechanism_summary;
+
+MBX_API mbx_status mbx_mechanism_get_summary(const mbx_mechanism *mechanism, mbx_mechanism_summary *out);
+
+/* Rigid body 0 is the ground; then dynamic bodies, then joint nodes. */
+typedef enum mbx_rigid_body_kind {
+    MBX_RIGID_BODY_GROUND = 0,
+    MBX_RIGID_BODY_DYNAMIC = 1,
+    MBX_RIGID_BODY_JOINT_NODE = 2
+} mbx_rigid_body_kind;
+
+typedef struct mbx_rigid_body_info {
+    uint32_t struct_size;
+    mbx_rigid_body_kind kind;
+    const char *name;       /* name of the principal part, or of the node */
+    const char *id;         /* id of the principal part, or "<constraint id>#<k>" */
+    uint32_t part_count;    /* CAD parts merged into this body */
+    double mass;
+    double com[3];          /* in the body frame */
+    double inertia[9];      /* about com, body axes, row-major */
+    mbx_pose pose;          /* world, at the assembly configuration (SI) */
+    int32_t parent_joint;   /* index of the tree joint above it, -1 for roots */
+} mbx_rigid_body_info;
+
+MBX_API mbx_status mbx_mechanism_get_rigid_body(const mbx_mechanism *mechanism, uint32_t index,
+                                                mbx_rigid_body_info *out);
+/* Index of the rigid body a CAD part ended up in. */
+MBX_API mbx_status mbx_mechanism_find_part(const mbx_mechanism *mechanism, const char *part_id,
+                                           uint32_t *out_rigid_body);
+
+typedef struct mbx_joint_info {
+    uint32_t struct_size;
+    mbx_primitive_type type;
+    const char *name;          /* "<constraint name>" or "<constraint name>#k" for chains */
+    const char *constraint_id; /* host constraint it came from */
+    uint32_t primitive_index;  /* position in the host chain (0 = J_N) */
+    uint32_t parent;           /* rigid body on the tree-parent side */
+    uint32_t child;            /* rigid body on the tree-child side */
+    int32_t is_cut;            /* 1: loop-closing (cut) joint, not a tree edge */
+    int32_t reversed;          /* 1: parent side is the CAD follower side */
+    double axis[3];            /* unit axis in world at the assembly pose */
+    mbx_pose frame;            /* joint frame in world at the assembly pose */
+    int32_t has_limits;
+    double lower, upper;       /* SI */
+    int32_t loop;              /* loop this cut joint closes, -1 for tree joints */
+} mbx_joint_info;
+
+MBX_API mbx_status mbx_mechanism_get_joint(const mbx_mechanism *mechanism, uint32_t index, mbx_joint_info *out);
+
+typedef struct mbx_loop_info {
+    uint32_t struct_size;
+    uint32_t cut_joint;        /* joint index */
+    uint32_t joint_count;      /* primitive joints around the loop (cut included) */
+    int32_t dof;               /* numeric mobility of this loop alone */
+    int32_t gruebler_dof;      /* sum f - 6 (or - 3 if planar) */
+    uint32_t redundant;        /* rank deficit of its 6 closure equations */
+    int32_t planar;            /* 1: all axes parallel revolutes / normal prismatics */
+    double planar_normal[3];   /* world normal of the loop plane if planar */
+} mbx_loop_info;
+
+MBX_API mbx_status mbx_mechanism_get_loop(const mbx_mechanism *mechanism, uint32_t index, mbx_loop_info *out);
+/* Joint indices around loop `index`; *inout_count is the capacity in and the
+ * needed count out (call with 0 to ask). */
+MBX_API mbx_status mbx_mechanism_get_loop_joints(const mbx_mechanism *mechanism, uint32_t index,
+                                                 uint32_t *joints, uint32_t *inout_count);
+
+typedef enum mbx_severity {
+    MBX_SEVERITY_INFO = 0,
+    MBX_SEVERITY_WARNING = 1,
+    MBX_SEVERITY_ERROR = 2
+} mbx_severity;
+
+/* Stable finding codes; the report writes their names (mbx_finding_code_name). */
+typedef enum mbx_finding_code {
+    MBX_FINDING_INERTIA_NOT_POSITIVE_DEFINITE = 1,
+    MBX_FINDING_INERTIA_TRIANGLE_INEQUALITY = 2,
+    MBX_FINDING_JOINT_FRAMES_APART = 3,
+    MBX_FINDING_BODY_UNCONNECTED = 4,
+    MBX_FINDING_ZERO_MASS_BODY = 5,
+    MBX_FINDING_ROTATION_REORTHONORMALIZED = 6,
+    MBX_FINDING_HOST_STATUS = 7,
+    MBX_FINDING_WELD_LOOP_COLLAPSED = 8,
+    MBX_FINDING_REDUNDANT_CONSTRAINTS = 9,
+    MBX_FINDING_FLOATING_SUBASSEMBLY = 10,
+    MBX_FINDING_HELPER_BODY_DROPPED = 11,
+    MBX_FINDING_PLANAR_LOOP = 12,
+    MBX_FINDING_MOBILITY_MISMATCH = 13,
+    MBX_FINDING_DEGENERATE_AXIS = 14,
+    MBX_FINDING_SELF_CONSTRAINT = 15,
+    MBX_FINDING_NEGATIVE_MASS = 16,
+    MBX_FINDING_LIMITS_INVERTED = 17
+} mbx_finding_code;
+
+typedef struct mbx_finding {
+    uint32_t struct_size;
+    mbx_severity severity;
+    mbx_finding_code code;
+    mbx_subject_kind subject_kind;
+    const char *subject_id;
+    const char *subject_name;
+    const char *message;
+} mbx_finding;
+
+MBX_API const char *mbx_finding_code_name(mbx_finding_code code);
+MBX_API uint32_t mbx_mechanism_finding_count(const mbx_mechanism *mechanism);
+MBX_API mbx_status mbx_mechanism_get_finding(const mbx_mechanism *mechanism, uint32_t index, mbx_finding *out);
+
+/* ------------------------------------------------------------------------ */
+/* Shapes (lazy)                                                             */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_shape_stats {
+    uint32_t struct_size;
+    uint32_t mesh_count;
+    uint64_t vertex_count;
+    uint64_t triangle_count;
+    double bounds_min[3]; /* body frame, metres */
+    double bounds_max[3];
+} mbx_shape_stats;
+
+/* Asks the host (once, then cached) for the meshes of every part of rigid
+ * body `index` and returns their totals in the body frame. */
+MBX_API mbx_status mbx_mechanism_get_shape_stats(mbx_context *context, mbx_mechanism *mechanism, uint32_t index,
+                                                 mbx_shape_stats *out);
+
+/* ------------------------------------------------------------------------ */
+/* Reports                                                                   */
+/* ------------------------------------------------------------------------ */
+/* Writes <directory>/report.json and <directory>/report.txt. Each file is
+ * written to a temporary name and renamed, so a reader never sees half a
+ * report. The directory is created if missing. */
+MBX_API mbx_status mbx_mechanism_write_report(mbx_context *context, const mbx_mechanism *mechanism,
+                                              const char *directory);
+
+/* ------------------------------------------------------------------------ */
+/* Plugin entry: one exported function returns the whole API as a table, so a */
+/* host can dlopen() the plugin and dlsym() a single name.                    */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_api {
+    uint32_t struct_size;
+    uint32_t abi_version;
+    /* --- version 1 --- */
+    const char *(*version)(void);
+    const char *(*status_name)(mbx_status);
+    mbx_status (*context_create)(mbx_context **);
+    void (*context_destroy)(mbx_context *);
+    const char *(*context_last_error)(const mbx_context *);
+    mbx_status (*context_last_error_info)(const mbx_context *, mbx_error_info *);
+    mbx_status (*context_set_progress)(mbx_context *, mbx_progress_fn, void *);
+    mbx_status (*translate)(mbx_context *, const mbx_host *, const mbx_translate_options *, mbx_mechanism **);
+    void (*mechanism_destroy)(mbx_mechanism *);
+    mbx_status (*mechanism_release_host)(mbx_mechanism *);
+    mbx_status (*mechanism_get_summary)(const mbx_mechanism *, mbx_mechanism_summary *);
+    mbx_status (*mechanism_get_rigid_body)(const mbx_mechanism *, uint32_t, mbx_rigid_body_info *);
+    mbx_status (*mechanism_find_part)(const mbx_mechanism *, const char *, uint32_t *);
+    mbx_status (*mechanism_get_joint)(const mbx_mechanism *, uint32_t, mbx_joint_info *);
+    mbx_status (*mechanism_get_loop)(const mbx_mechanism *, uint32_t, mbx_loop_info *);
+    mbx_status (*mechanism_get_loop_joints)(const mbx_mechanism *, uint32_t, uint32_t *, uint32_t *);
+    const char *(*finding_code_name)(mbx_finding_code);
+    uint32_t (*mechanism_finding_count)(const mbx_mechanism *);
+    mbx_status (*mechanism_get_finding)(const mbx_mechanism *, uint32_t, mbx_finding *);
+    mbx_status (*mechanism_get_shape_stats)(mbx_context *, mbx_mechanism *, uint32_t, mbx_shape_stats *);
+    mbx_status (*mechanism_write_report)(mbx_context *, const mbx_mechanism *, const char *);
+    /* --- version 2 --- */
+    uint32_t (*abi_version_fn)(void);
+} mbx_api;
+
+#define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"
+typedef const mbx_api *(*mbx_plugin_api_fn)(uint32_t host_abi_version);
+
+/* Returns the API table, or NULL for host_abi_version 0. Tables only grow:
+ * a host built against an older ABI reads the prefix it knows; a host built
+ * against a newer one must check struct_size before calling a function that
+ * lies beyond it. */
+MBX_API const mbx_api *mbx_plugin_api(uint32_t host_abi_version);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MBX_H */

@@ -1,0 +1,47 @@
+// What the opaque C handles hold. Only capi/ sees these.
+#pragma once
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "assembly/shape_loader.h"
+#include "core/finding.h"
+#include "mbx/mbx.h"
+#include "translator/mechanism.h"
+
+struct mbx_context {
+    mbx_progress_fn progress = nullptr;
+    void* progress_user = nullptr;
+
+    // Last failure; strings are returned to the caller by pointer.
+    mbx_status status = MBX_OK;
+    std::string message;
+    mbx::Subject subject;
+    std::string file;
+    int line = 0;
+
+    void clear() {
+        status = MBX_OK;
+        message.clear();
+        subject = {};
+        file.clear();
+        line = 0;
+    }
+    mbx_status fail(mbx_status s, std::string text, mbx::Subject subj = {}, std::string in_file = {}, int at = 0) {
+        status = s;
+        message = std::move(text);
+        subject = std::move(subj);
+        file = std::move(in_file);
+        line = at;
+        return s;
+    }
+};
+
+struct mbx_mechanism {
+    std::unique_ptr<mbx::Mechanism> model;
+    mbx_host host{};  // copy of the host's table (zero past its struct_size)
+    bool has_host = false;
+    std::vector<std::unique_ptr<std::vector<mbx::Mesh>>> shapes;  // per rigid body, loaded on demand
+    mutable std::unordered_map<std::string, int> part_index;       // built on the first lookup
+};

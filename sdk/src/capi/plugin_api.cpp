@@ -1,0 +1,40 @@
+// The single symbol a host needs after dlopen(): the whole API as a table.
+#include "mbx/mbx.h"
+
+namespace {
+
+const mbx_api kApi = {
+    sizeof(mbx_api),
+    MBX_ABI_VERSION,
+    mbx_version,
+    mbx_status_name,
+    mbx_context_create,
+    mbx_context_destroy,
+    mbx_context_last_error,
+    mbx_context_last_error_info,
+    mbx_context_set_progress,
+    mbx_translate,
+    mbx_mechanism_destroy,
+    mbx_mechanism_release_host,
+    mbx_mechanism_get_summary,
+    mbx_mechanism_get_rigid_body,
+    mbx_mechanism_find_part,
+    mbx_mechanism_get_joint,
+    mbx_mechanism_get_loop,
+    mbx_mechanism_get_loop_joints,
+    mbx_finding_code_name,
+    mbx_mechanism_finding_count,
+    mbx_mechanism_get_finding,
+    mbx_mechanism_get_shape_stats,
+    mbx_mechanism_write_report,
+    mbx_abi_version,
+};
+
+}  // namespace
+
+extern "C" MBX_API const mbx_api* mbx_plugin_api(uint32_t host_abi_version) {
+    // Tables only grow, so any host from ABI 1 on can use this one: an older
+    // host reads its prefix, a newer one checks struct_size before using
+    // functions this library does not have.
+    return host_abi_version >= 1 ? &kApi : nullptr;
+}

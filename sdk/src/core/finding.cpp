@@ -1,0 +1,51 @@
+#include "core/finding.h"
+
+namespace mbx {
+
+const char* finding_code_name(mbx_finding_code code) {
+    switch (code) {
+        case MBX_FINDING_INERTIA_NOT_POSITIVE_DEFINITE: return "inertia_not_positive_definite";
+        case MBX_FINDING_INERTIA_TRIANGLE_INEQUALITY: return "inertia_triangle_inequality";
+        case MBX_FINDING_JOINT_FRAMES_APART: return "joint_frames_apart";
+        case MBX_FINDING_BODY_UNCONNECTED: return "body_unconnected";
+        case MBX_FINDING_ZERO_MASS_BODY: return "zero_mass_body";
+        case MBX_FINDING_ROTATION_REORTHONORMALIZED: return "rotation_reorthonormalized";
+        case MBX_FINDING_HOST_STATUS: return "host_status";
+        case MBX_FINDING_WELD_LOOP_COLLAPSED: return "weld_loop_collapsed";
+        case MBX_FINDING_REDUNDANT_CONSTRAINTS: return "redundant_constraints";
+        case MBX_FINDING_FLOATING_SUBASSEMBLY: return "floating_subassembly";
+        case MBX_FINDING_HELPER_BODY_DROPPED: return "helper_body_dropped";
+        case MBX_FINDING_PLANAR_LOOP: return "planar_loop";
+        case MBX_FINDING_MOBILITY_MISMATCH: return "mobility_mismatch";
+        case MBX_FINDING_DEGENERATE_AXIS: return "degenerate_axis";
+        case MBX_FINDING_SELF_CONSTRAINT: return "self_constraint";
+        case MBX_FINDING_NEGATIVE_MASS: return "negative_mass";
+        case MBX_FINDING_LIMITS_INVERTED: return "limits_inverted";
+    }
+    return "unknown";
+}
+
+const char* severity_name(mbx_severity severity) {
+    switch (severity) {
+        case MBX_SEVERITY_INFO: return "info";
+        case MBX_SEVERITY_WARNING: return "warning";
+        case MBX_SEVERITY_ERROR: return "error";
+    }
+    return "unknown";
+}
+
+const char* subject_kind_name(mbx_subject_kind kind) {
+    switch (kind) {
+        case MBX_SUBJECT_NONE: return "none";
+        case MBX_SUBJECT_BODY: return "body";
+        case MBX_SUBJECT_FRAME: return "frame";
+        case MBX_SUBJECT_CONSTRAINT: return "constraint";
+        case MBX_SUBJECT_RIGID_BODY: return "rigid_body";
+        case MBX_SUBJECT_LOOP: return "loop";
+        case MBX_SUBJECT_FILE: return "file";
+        case MBX_SUBJECT_MODEL: return "model";
+    }
+    return "unknown";
+}
+
+}  // namespace mbx

@@ -1,0 +1,25 @@
+#include "translator/translate.h"
+
+#include <algorithm>
+
+#include "mobility/mobility.h"
+
+namespace mbx {
+
+std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findings, const TranslateOptions& options,
+                                              Progress& progress) {
+    auto m = std::make_unique<Mechanism>();
+    m->assembly = std::move(assembly);
+    m->findings = std::move(findings);
+    m->length_tolerance = options.length_tolerance > 0 ? options.length_tolerance
+                                                       : std::max(1e-5 * m->assembly.size, 1e-9);
+    merge_welds(*m, progress);
+    build_tree(*m, progress);
+    validate(*m, progress);
+    progress.stage("mobility", m->loops.size());
+    analyze_mobility(*m, options);
+    progress.finish();
+    return m;
+}
+
+}  // namespace mbx
