@@ -86,7 +86,7 @@ private:
     Mat3 rotation(const double* r, const Subject& subject, const char* what) {
         Mat3 m = row_major(r);
         double err = orthonormality_error(m);
-        if (err <= 1e-12) return m;
+        if (err <= 1e-12 && m.determinant() > 0) return m;
         Mat3 fixed;
         if (err > options_.orthonormality_limit || !nearest_rotation(m, fixed))
             throw Error(MBX_ERROR_INVALID_INPUT, subject,

@@ -1,0 +1,23 @@
+// The translation report: what an engineer reads to trust (or fix) a
+// translation. report.json is for tools, report.txt for people. Both are
+// deterministic (byte-identical for the same Mechanism) and linear in size.
+#pragma once
+#include <string>
+
+#include "translator/mechanism.h"
+
+namespace mbx {
+
+// The whole mechanism as JSON (schema in report_json.cpp), ending in '\n'.
+std::string report_json(const Mechanism& m);
+
+// A plain-text summary: counts, the tree outline from ground, loops, and
+// findings grouped by severity. Lines stay under 120 characters.
+std::string report_text(const Mechanism& m);
+
+// Writes <directory>/report.json and <directory>/report.txt as one unit (see
+// write_files_atomically), creating the directory if needed. Throws
+// mbx::Error(MBX_ERROR_IO) naming the file that could not be written.
+void write_report(const Mechanism& m, const std::string& directory);
+
+}  // namespace mbx

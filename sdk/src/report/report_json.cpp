@@ -1,0 +1,227 @@
+// report.json schema (key order as written; indices are 0-based; SI units;
+// 3x3 matrices as 9 numbers row-major; absent references are null):
+//   mbx_version, model {name, source},
+//   summary {parts, rigid_bodies, joint_nodes, joints {revolute, prismatic,
+//     spherical, total}, welds_merged, cut_joints, loops, planar_loops,
+//     collapsed_weld_loops, floating_bodies, dof, gruebler_dof,
+//     redundant_constraints, warnings, errors, length_tolerance_m},
+//   parts [{id, name, flags [..], mass, rigid_body}],
+//   bodies [{index, kind, id, name, parts [part ids], mass, com, inertia,
+//     position, rotation, parent_joint, depth}],
+//   joints [{index, name, type, constraint_id, primitive_index, parent, child,
+//     cut, reversed, axis, position, limits {lower, upper}, loop}],
+//   tree [for body i: the child bodies of its tree joints, in joint order],
+//   loops [{index, cut_joint, joints, signs, dof, gruebler_dof, redundant,
+//     planar, planar_normal}],
+//   findings [{severity, code, subject {kind, id, name}, message}]
+#include "report/json_writer.h"
+#include "report/report.h"
+#include "report/report_detail.h"
+
+namespace mbx {
+namespace {
+
+using namespace report_detail;
+using Layout = JsonWriter::Layout;
+
+void write_vec(JsonWriter& w, const char* name, const Vec3& v) {
+    const double a[3] = {v.x(), v.y(), v.z()};
+    w.key(name).number_array(a, 3);
+}
+
+void write_mat(JsonWriter& w, const char* name, const Mat3& m) {
+    double a[9];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) a[3 * i + j] = m(i, j);
+    w.key(name).number_array(a, 9);
+}
+
+void write_index_or_null(JsonWriter& w, const char* name, int index) {
+    w.key(name);
+    if (index >= 0)
+        w.value(index);
+    else
+        w.null();
+}
+
+void write_int_array(JsonWriter& w, const char* name, const std::vector<int>& v) {
+    w.key(name).begin_array(Layout::Inline);
+    for (int i : v) w.value(i);
+    w.end_array();
+}
+
+void write_summary(JsonWriter& w, const Mechanism& m, const Counts& c) {
+    w.key("summary").begin_object();
+    w.member("parts", m.assembly.parts.size());
+    w.member("rigid_bodies", c.dynamic_bodies);
+    w.member("joint_nodes", c.joint_nodes);
+    w.key("joints").begin_object();
+    w.member("revolute", c.revolute).member("prismatic", c.prismatic).member("spherical", c.spherical);
+    w.member("total", m.joints.size());
+    w.end_object();
+    w.member("welds_merged", m.weld_count);
+    w.member("cut_joints", c.cut_joints);
+    w.member("loops", m.loops.size());
+    w.member("planar_loops", c.planar_loops);
+    w.member("collapsed_weld_loops", m.collapsed_weld_loops);
+    w.member("floating_bodies", m.floating_roots);
+    w.member("dof", m.dof);
+    w.member("gruebler_dof", m.gruebler_dof);
+    w.member("redundant_constraints", m.redundant);
+    w.member("warnings", c.warnings);
+    w.member("errors", c.errors);
+    w.member("length_tolerance_m", m.length_tolerance);
+    w.end_object();
+}
+
+void write_parts(JsonWriter& w, const Mechanism& m) {
+    w.key("parts").begin_array();
+    for (std::size_t i = 0; i < m.assembly.parts.size(); ++i) {
+        const Part& p = m.assembly.parts[i];
+        w.begin_object();
+        w.member("id", p.id).member("name", p.name);
+        w.key("flags").begin_array(Layout::Inline);
+        if (p.is_ground()) w.value("ground");
+        if (p.is_helper()) w.value("helper");
+        w.end_array();
+        w.member("mass", p.mass);
+        const int body = i < m.part_body.size() ? m.part_body[i] : -1;
+        write_index_or_null(w, "rigid_body", valid_index(m.bodies, body) ? body : -1);
+        w.end_object();
+    }
+    w.end_array();
+}
+
+void write_bodies(JsonWriter& w, const Mechanism& m) {
+    w.key("bodies").begin_array();
+    for (std::size_t i = 0; i < m.bodies.size(); ++i) {
+        const RigidBody& b = m.bodies[i];
+        w.begin_object();
+        w.member("index", i).member("kind", body_kind_name(b.kind));
+        w.member("id", b.id).member("name", b.name);
+        w.key("parts").begin_array(Layout::Inline);
+        for (int p : b.parts) {
+            if (valid_index(m.assembly.parts, p))
+                w.value(m.assembly.parts[static_cast<std::size_t>(p)].id);
+            else
+                w.null();
+        }
+        w.end_array();
+        w.member("mass", b.mass);
+        write_vec(w, "com", b.com);
+        write_mat(w, "inertia", b.inertia);
+        write_vec(w, "position", b.pose.position);
+        write_mat(w, "rotation", b.pose.rotation);
+        write_index_or_null(w, "parent_joint", b.parent_joint);
+        w.member("depth", b.depth);
+        w.end_object();
+    }
+    w.end_array();
+}
+
+void write_joints(JsonWriter& w, const Mechanism& m) {
+    w.key("joints").begin_array();
+    for (std::size_t i = 0; i < m.joints.size(); ++i) {
+        const Joint& j = m.joints[i];
+        w.begin_object();
+        w.member("index", i).member("name", j.name).member("type", joint_type_name(j.type));
+        w.key("constraint_id");
+        if (valid_index(m.assembly.constraints, j.constraint))
+            w.value(m.assembly.constraints[static_cast<std::size_t>(j.constraint)].id);
+        else
+            w.null();
+        w.member("primitive_index", j.primitive_index);
+        write_index_or_null(w, "parent", j.parent);
+        write_index_or_null(w, "child", j.child);
+        w.member("cut", j.cut).member("reversed", j.reversed);
+        write_vec(w, "axis", j.axis);
+        write_vec(w, "position", j.frame.position);
+        w.key("limits");
+        if (j.has_limits)
+            w.begin_object(Layout::Inline).member("lower", j.lower).member("upper", j.upper).end_object();
+        else
+            w.null();
+        write_index_or_null(w, "loop", j.loop);
+        w.end_object();
+    }
+    w.end_array();
+}
+
+void write_tree(JsonWriter& w, const Mechanism& m) {
+    const JointsByParent tree = joints_by_parent(m, false);
+    w.key("tree").begin_array();
+    for (std::size_t b = 0; b < m.bodies.size(); ++b) {
+        w.begin_array(Layout::Inline);
+        for (const int* j = tree.begin(b); j != tree.end(b); ++j) w.value(m.joints[static_cast<std::size_t>(*j)].child);
+        w.end_array();
+    }
+    w.end_array();
+}
+
+void write_loops(JsonWriter& w, const Mechanism& m) {
+    w.key("loops").begin_array();
+    for (std::size_t i = 0; i < m.loops.size(); ++i) {
+        const Loop& l = m.loops[i];
+        w.begin_object();
+        w.member("index", i);
+        write_index_or_null(w, "cut_joint", l.cut_joint);
+        write_int_array(w, "joints", l.joints);
+        write_int_array(w, "signs", l.signs);
+        w.member("dof", l.dof).member("gruebler_dof", l.gruebler_dof).member("redundant", l.redundant);
+        w.member("planar", l.planar);
+        if (l.planar)
+            write_vec(w, "planar_normal", l.planar_normal);
+        else
+            w.key("planar_normal").null();
+        w.end_object();
+    }
+    w.end_array();
+}
+
+void write_findings(JsonWriter& w, const Mechanism& m) {
+    w.key("findings").begin_array();
+    for (const Finding& f : m.findings) {
+        w.begin_object();
+        w.member("severity", severity_name(f.severity)).member("code", finding_code_name(f.code));
+        w.key("subject").begin_object(Layout::Inline);
+        w.member("kind", subject_kind_name(f.subject.kind));
+        w.member("id", f.subject.id).member("name", f.subject.name);
+        w.end_object();
+        w.member("message", f.message);
+        w.end_object();
+    }
+    w.end_array();
+}
+
+// Rough bytes per element, so the buffer grows once instead of ~20 times.
+std::size_t estimated_size(const Mechanism& m) {
+    std::size_t n = 1024;
+    n += m.assembly.parts.size() * 160;
+    n += m.bodies.size() * 760;
+    n += m.joints.size() * 420;
+    for (const Loop& l : m.loops) n += 260 + 8 * l.joints.size();
+    for (const Finding& f : m.findings) n += 200 + f.message.size() + f.subject.id.size() + f.subject.name.size();
+    return n;
+}
+
+}  // namespace
+
+std::string report_json(const Mechanism& m) {
+    JsonWriter w(estimated_size(m));
+    w.begin_object();
+    w.member("mbx_version", MBX_VERSION_STRING);
+    w.key("model").begin_object().member("name", m.assembly.name).member("source", m.assembly.source).end_object();
+    write_summary(w, m, count(m));
+    write_parts(w, m);
+    write_bodies(w, m);
+    write_joints(w, m);
+    write_tree(w, m);
+    write_loops(w, m);
+    write_findings(w, m);
+    w.end_object();
+    std::string text = w.take();
+    text.push_back('\n');
+    return text;
+}
+
+}  // namespace mbx

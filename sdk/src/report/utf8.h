@@ -1,0 +1,27 @@
+// UTF-8 hygiene shared by the JSON and text writers. Host strings come from
+// CAD systems that sometimes hand over Latin-1 or truncated buffers; a report
+// must still be valid UTF-8, so ill-formed input is replaced, never copied.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace mbx {
+
+// Length (1..4) of the well-formed UTF-8 sequence that starts at s[i], or 0
+// if it is ill-formed; then *bad is the length of its maximal ill-formed
+// subpart (>= 1), which gets one U+FFFD as Unicode's "best practice" advises.
+std::size_t utf8_sequence_length(std::string_view s, std::size_t i, std::size_t* bad);
+
+// Appends the three bytes of U+FFFD.
+inline void append_replacement_character(std::string& out) { out.append("\xEF\xBF\xBD", 3); }
+
+// Appends `s` as valid UTF-8 with control characters turned into spaces, so
+// a name can neither break a line of a plain-text report nor its encoding.
+void append_printable_utf8(std::string& out, std::string_view s);
+
+// Shortens `line` to at most `max_bytes` bytes (an ellipsis included) without
+// splitting a code point. `line` must already be valid UTF-8.
+void clip_utf8(std::string& line, std::size_t max_bytes);
+
+}  // namespace mbx

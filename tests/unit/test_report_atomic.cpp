@@ -1,0 +1,184 @@
+// Atomic file writing: failures are clean, successes replace entirely.
+#include <doctest/doctest.h>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/finding.h"
+#include "report/atomic_file.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory per test case, removed afterwards (permissions restored
+// first, so a failed read-only test cannot leave debris behind).
+struct Scratch {
+    fs::path dir;
+    explicit Scratch(const char* name) {
+        dir = fs::temp_directory_path() / ("mbx_atomic_" + std::to_string(::getpid()) + "_" + name);
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    ~Scratch() {
+        std::error_code ec;
+        fs::permissions(dir, fs::perms::owner_all, fs::perm_options::add, ec);
+        fs::remove_all(dir, ec);
+    }
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void spit(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
+
+std::size_t temporaries_in(const fs::path& dir) {
+    std::size_t n = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        n += e.path().filename().string().find(".tmp.") != std::string::npos;
+    return n;
+}
+
+// Runs `write` expecting an I/O error about `path`; returns its message.
+template <class F>
+std::string expect_io_error(F write, const std::string& path) {
+    try {
+        write();
+    } catch (const mbx::Error& e) {
+        CHECK(e.status() == MBX_ERROR_IO);
+        CHECK(e.subject().kind == MBX_SUBJECT_FILE);
+        CHECK(e.subject().id == path);
+        return e.what();
+    }
+    FAIL("no mbx::Error thrown");
+    return {};
+}
+
+}  // namespace
+
+TEST_CASE("atomic: creates missing directories and writes the contents") {
+    Scratch s("create");
+    const fs::path target = s.dir / "a" / "b" / "file.txt";
+    mbx::write_file_atomically(target.string(), std::string("hello\0world", 11));
+    CHECK(slurp(target) == std::string("hello\0world", 11));
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: an existing file is replaced entirely") {
+    Scratch s("replace");
+    const fs::path target = s.dir / "report.json";
+    spit(target, std::string(10000, 'o'));
+    mbx::write_file_atomically(target.string(), "short");
+    CHECK(slurp(target) == "short");
+    mbx::write_file_atomically(target.string(), "");
+    CHECK(slurp(target).empty());
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: a parent that is a file fails with MBX_ERROR_IO and leaves nothing") {
+    Scratch s("parent_file");
+    spit(s.dir / "blocker", "I am a file");
+    const std::string target = (s.dir / "blocker" / "out" / "report.json").string();
+    const std::string message =
+        expect_io_error([&] { mbx::write_file_atomically(target, "data"); }, target);
+    CAPTURE(message);
+    CHECK(message.find("blocker") != std::string::npos);
+    CHECK(message.find("Not a directory") != std::string::npos);
+    CHECK(slurp(s.dir / "blocker") == "I am a file");
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: a target that is a directory fails and removes the temporary") {
+    Scratch s("target_dir");
+    fs::create_directories(s.dir / "report.txt");
+    const std::string target = (s.dir / "report.txt").string();
+    const std::string message = expect_io_error([&] { mbx::write_file_atomically(target, "data"); }, target);
+    CAPTURE(message);
+    CHECK(message.find("Is a directory") != std::string::npos);
+    CHECK(fs::is_directory(target));
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: a read-only directory fails cleanly") {
+    if (::geteuid() == 0) {
+        MESSAGE("skipped: root ignores directory permissions");
+        return;
+    }
+    Scratch s("read_only");
+    const fs::path target = s.dir / "report.json";
+    spit(target, "old");
+    REQUIRE(::chmod(s.dir.c_str(), 0500) == 0);
+    const std::string message =
+        expect_io_error([&] { mbx::write_file_atomically(target.string(), "new"); }, target.string());
+    CAPTURE(message);
+    CHECK(message.find("Permission denied") != std::string::npos);
+    REQUIRE(::chmod(s.dir.c_str(), 0700) == 0);
+    CHECK(slurp(target) == "old");
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: write_files_atomically replaces a pair together") {
+    Scratch s("pair_ok");
+    const std::string json = (s.dir / "report.json").string();
+    const std::string text = (s.dir / "report.txt").string();
+    spit(json, "old json");
+    spit(text, "old text");
+    mbx::write_files_atomically({{json, "new json"}, {text, "new text"}});
+    CHECK(slurp(json) == "new json");
+    CHECK(slurp(text) == "new text");
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: write_files_atomically keeps the old pair when the second file fails") {
+    Scratch s("pair_fail");
+    const std::string json = (s.dir / "report.json").string();
+    const std::string text = (s.dir / "report.txt").string();
+    spit(json, "old json");
+    fs::create_directories(text);  // the second rename will fail with EISDIR
+    expect_io_error([&] { mbx::write_files_atomically({{json, "new json"}, {text, "new text"}}); }, text);
+    CHECK(slurp(json) == "old json");
+    CHECK(fs::is_directory(text));
+    CHECK(temporaries_in(s.dir) == 0);
+
+    // Same when the first target did not exist before: it must not appear.
+    fs::remove(json);
+    expect_io_error([&] { mbx::write_files_atomically({{json, "new json"}, {text, "new text"}}); }, text);
+    CHECK_FALSE(fs::exists(json));
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: write_files_atomically writes nothing when a temporary cannot be created") {
+    Scratch s("pair_mkdir");
+    spit(s.dir / "blocker", "file");
+    const std::string json = (s.dir / "report.json").string();
+    const std::string text = (s.dir / "blocker" / "report.txt").string();
+    spit(json, "old json");
+    expect_io_error([&] { mbx::write_files_atomically({{json, "new json"}, {text, "new text"}}); }, text);
+    CHECK(slurp(json) == "old json");
+    CHECK(temporaries_in(s.dir) == 0);
+}
+
+TEST_CASE("atomic: concurrent writers of one file never clash or leave debris") {
+    Scratch s("concurrent");
+    const std::string target = (s.dir / "report.json").string();
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&, t] {
+            const std::string contents(1000 + static_cast<std::size_t>(t), static_cast<char>('a' + t));
+            for (int i = 0; i < 25; ++i) mbx::write_file_atomically(target, contents);
+        });
+    for (std::thread& th : threads) th.join();
+    const std::string result = slurp(target);
+    REQUIRE_FALSE(result.empty());
+    CHECK(result == std::string(result.size(), result[0]));  // one writer's contents, whole
+    CHECK(result.size() == 1000 + static_cast<std::size_t>(result[0] - 'a'));
+    CHECK(temporaries_in(s.dir) == 0);
+}
