@@ -186,7 +186,8 @@ Constraint& Builder::joint(const std::string& local, const std::string& base_bod
             q.axis[2] = 1;
         }
         q.has_limits = p.has_limits;
-        const double scale = p.type == MBX_PRIMITIVE_PRISMATIC ? length_factor(body_units_) : 1.0;
+        // mbx.h: prismatic limits are in the length unit of the base frame.
+        const double scale = p.type == MBX_PRIMITIVE_PRISMATIC ? length_factor(frame_units_) : 1.0;
         q.lower = p.lower / scale;
         q.upper = p.upper / scale;
         c.chain.push_back(q);

@@ -94,20 +94,20 @@ TEST_CASE("stub host: simulated faults name what failed") {
     mbx_body_desc body{};
     body.struct_size = sizeof body;
     CHECK(t->get_body(t->user_data, 2, &body, message, sizeof message) != 0);
-    CHECK(std::string(message) == "stub host: simulated failure reading body " + a.bodies[2].id);
+    CHECK(std::string(message) == "memory host: simulated failure reading body " + a.bodies[2].id);
     CHECK(t->get_body(t->user_data, 4, &body, message, sizeof message) == 0);
     CHECK(std::isnan(body.mass));
 
     mbx_constraint_desc constraint{};
     constraint.struct_size = sizeof constraint;
     CHECK(t->get_constraint(t->user_data, 3, &constraint, message, sizeof message) != 0);
-    CHECK(std::string(message) == "stub host: simulated failure reading constraint " + a.constraints[3].id);
+    CHECK(std::string(message) == "memory host: simulated failure reading constraint " + a.constraints[3].id);
 
     mbx_shape_sink sink{};
     sink.struct_size = sizeof sink;
     sink.add_mesh = [](void*, const mbx_mesh_desc*) { return 0; };
     CHECK(t->get_shapes(t->user_data, a.bodies[5].id.c_str(), &sink, message, sizeof message) != 0);
-    CHECK(std::string(message) == "stub host: simulated failure reading shapes of body " + a.bodies[5].id);
+    CHECK(std::string(message) == "memory host: simulated failure reading shapes of body " + a.bodies[5].id);
 
     // A tiny message buffer is respected (and still terminated).
     char tiny[8];

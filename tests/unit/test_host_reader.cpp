@@ -233,3 +233,34 @@ TEST_CASE("progress callback can cancel") {
         CHECK(e.status() == MBX_ERROR_CANCELLED);
     }
 }
+
+TEST_CASE("host diagnostics (ABI 3) become findings that keep the host's code, file and line") {
+    mbx_stub::Assembly a = small_assembly();
+    mbx_stub::Diagnostic d;
+    d.severity = MBX_SEVERITY_WARNING;
+    d.code = "mesh_file_missing";
+    d.subject_kind = MBX_SUBJECT_BODY;
+    d.subject_id = "arm";
+    d.file = "model.xml";
+    d.line = 42;
+    d.message = "geometry file 'arm.stl' of body 'arm' not found";
+    a.diagnostics.push_back(d);
+    mbx_stub::Host host(a);
+    Findings f;
+    read(host, f);
+    REQUIRE(f.size() == 1);
+    CHECK(f[0].code == MBX_FINDING_HOST_DIAGNOSTIC);
+    CHECK(std::string(f[0].code_name()) == "mesh_file_missing");
+    CHECK(f[0].subject.id == "arm");
+    CHECK(f[0].file == "model.xml");
+    CHECK(f[0].line == 42);
+
+    // A version-2 table ends before the diagnostic callbacks: they are not read.
+    mbx_host v2 = *host.table();
+    v2.struct_size = uint32_t(offsetof(mbx_host, diagnostic_count));
+    v2.abi_version = 2;
+    Findings none;
+    Progress progress;
+    read_host(&v2, {}, progress, none);
+    CHECK(none.empty());
+}

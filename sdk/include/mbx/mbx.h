@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 2u
+#define MBX_ABI_VERSION 3u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -112,6 +112,12 @@ typedef enum mbx_subject_kind {
     MBX_SUBJECT_FILE = 6,
     MBX_SUBJECT_MODEL = 7
 } mbx_subject_kind;
+
+typedef enum mbx_severity {
+    MBX_SEVERITY_INFO = 0,
+    MBX_SEVERITY_WARNING = 1,
+    MBX_SEVERITY_ERROR = 2
+} mbx_severity;
 
 typedef struct mbx_error_info {
     uint32_t struct_size;
@@ -251,7 +257,22 @@ typedef struct mbx_shape_sink {
     int (*add_mesh)(void *sink_data, const mbx_mesh_desc *mesh);
 } mbx_shape_sink;
 
-#define MBX_HOST_ABI_VERSION 2u
+/* Something the host itself noticed while preparing its data (a missing mesh
+ * file, an unmatched VRML shape, a parse warning). The SDK copies it into the
+ * mechanism's findings as MBX_FINDING_HOST_DIAGNOSTIC, keeping `code`. */
+typedef struct mbx_host_diagnostic {
+    uint32_t struct_size;
+    mbx_severity severity;
+    const char *code;         /* short stable name, e.g. "mesh_file_missing"; NULL = "host_diagnostic" */
+    mbx_subject_kind subject_kind;
+    const char *subject_id;
+    const char *subject_name;
+    const char *file;         /* input file, NULL if none */
+    int32_t line;             /* 1-based, 0 if unknown */
+    const char *message;
+} mbx_host_diagnostic;
+
+#define MBX_HOST_ABI_VERSION 3u
 
 /*
  * The callback table a CAD host implements (as sqlite3_vfs). Callbacks return
@@ -261,7 +282,8 @@ typedef struct mbx_shape_sink {
  * Strings returned inside descriptors must stay valid until the next callback
  * into the same host; the SDK copies them.
  *
- * Version 1 ends at get_shapes. Version 2 appended describe_assembly.
+ * Version 1 ends at get_shapes. Version 2 appended describe_assembly,
+ * version 3 diagnostic_count and get_diagnostic.
  * The table must stay valid, and its callbacks callable, for as long as a
  * mechanism created from it may still ask for shapes (until
  * mbx_mechanism_destroy or mbx_mechanism_release_host).
@@ -289,6 +311,12 @@ typedef struct mbx_host {
     /* --- version 2 --- */
     /* Optional (may be NULL): the assembly's name and source, for reports. */
     int (*describe_assembly)(void *user_data, const char **out_name, const char **out_source);
+
+    /* --- version 3 --- */
+    /* Optional (both or neither): the host's own diagnostics, pulled once
+     * before the bodies. */
+    int (*diagnostic_count)(void *user_data, size_t *out_count);
+    int (*get_diagnostic)(void *user_data, size_t index, mbx_host_diagnostic *out);
 } mbx_host;
 
 /* Size of the version-1 table, for hosts and tests that need it. */
@@ -308,7 +336,18 @@ typedef struct mbx_translate_options {
     /* Relative singular-value threshold for the loop-closure Jacobian rank.
      * 0 = 1e-6. */
     double rank_tolerance;
+    /* --- ABI 3 --- */
+    uint32_t flags; /* mbx_translate_flags */
+    /* Centroid mismatch (metres) above which MBX_FINDING_MASS_MISMATCH is a
+     * warning. 0 = max(1 mm, 2 % of the part's mesh bounding-box diagonal). */
+    double centroid_tolerance;
 } mbx_translate_options;
+
+typedef enum mbx_translate_flags {
+    /* Ask the host for every part's shapes during translation and compare the
+     * closed meshes' volume centroid with the CAD centre of mass. */
+    MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES = 1u << 0
+} mbx_translate_flags;
 
 /* Pull the assembly through `host` and build the mechanism. On success
  * *out_mechanism owns the result (findings included); on failure nothing is
@@ -412,12 +451,6 @@ MBX_API mbx_status mbx_mechanism_get_loop(const mbx_mechanism *mechanism, uint32
 MBX_API mbx_status mbx_mechanism_get_loop_joints(const mbx_mechanism *mechanism, uint32_t index,
                                                  uint32_t *joints, uint32_t *inout_count);
 
-typedef enum mbx_severity {
-    MBX_SEVERITY_INFO = 0,
-    MBX_SEVERITY_WARNING = 1,
-    MBX_SEVERITY_ERROR = 2
-} mbx_severity;
-
 /* Stable finding codes; the report writes their names (mbx_finding_code_name). */
 typedef enum mbx_finding_code {
     MBX_FINDING_INERTIA_NOT_POSITIVE_DEFINITE = 1,
@@ -436,7 +469,10 @@ typedef enum mbx_finding_code {
     MBX_FINDING_DEGENERATE_AXIS = 14,
     MBX_FINDING_SELF_CONSTRAINT = 15,
     MBX_FINDING_NEGATIVE_MASS = 16,
-    MBX_FINDING_LIMITS_INVERTED = 17
+    MBX_FINDING_LIMITS_INVERTED = 17,
+    MBX_FINDING_HOST_DIAGNOSTIC = 18, /* code_name carries the host's code */
+    MBX_FINDING_MASS_MISMATCH = 19,   /* CAD centre of mass far from the mesh centroid */
+    MBX_FINDING_SHAPE_NOT_CLOSED = 20 /* mesh cannot be checked: not a closed surface */
 } mbx_finding_code;
 
 typedef struct mbx_finding {
@@ -447,6 +483,10 @@ typedef struct mbx_finding {
     const char *subject_id;
     const char *subject_name;
     const char *message;
+    /* --- ABI 3 --- */
+    const char *code_name; /* mbx_finding_code_name(code), or the host's code */
+    const char *file;      /* "" if none */
+    int32_t line;          /* 0 if unknown */
 } mbx_finding;
 
 MBX_API const char *mbx_finding_code_name(mbx_finding_code code);

@@ -42,6 +42,7 @@ public:
                 out_.source = str(source);
             }
         }
+        read_diagnostics();
         read_bodies();
         read_frames();
         read_constraints();
@@ -116,6 +117,32 @@ private:
         require_finite(f, 3, s, "unit factor");
         if (u.length_to_m < 0 || u.mass_to_kg < 0 || u.inertia_to_kg_m2 < 0)
             throw Error(MBX_ERROR_INVALID_INPUT, s, "negative unit factor for '" + s.id + "'");
+    }
+
+    void read_diagnostics() {
+        if (!host_has(host_, offsetof(mbx_host, get_diagnostic) + sizeof(host_->get_diagnostic)) ||
+            !host_->diagnostic_count || !host_->get_diagnostic)
+            return;
+        const size_t n = count(host_->diagnostic_count, "diagnostic");
+        for (size_t i = 0; i < n; ++i) {
+            mbx_host_diagnostic d;
+            std::memset(&d, 0, sizeof d);
+            d.struct_size = sizeof d;
+            if (host_->get_diagnostic(host_->user_data, i, &d) != 0)
+                throw Error(MBX_ERROR_HOST_CALLBACK, {}, "host failed to deliver diagnostic #" + std::to_string(i));
+            Finding f;
+            f.severity = d.severity >= MBX_SEVERITY_INFO && d.severity <= MBX_SEVERITY_ERROR ? d.severity
+                                                                                             : MBX_SEVERITY_WARNING;
+            f.code = MBX_FINDING_HOST_DIAGNOSTIC;
+            f.code_text = str(d.code);
+            f.subject = {d.subject_kind >= MBX_SUBJECT_NONE && d.subject_kind <= MBX_SUBJECT_MODEL ? d.subject_kind
+                                                                                                   : MBX_SUBJECT_NONE,
+                         str(d.subject_id), str(d.subject_name)};
+            f.message = str(d.message);
+            f.file = str(d.file);
+            f.line = d.line;
+            findings_.push_back(std::move(f));
+        }
     }
 
     void read_bodies() {

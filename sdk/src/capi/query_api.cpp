@@ -155,6 +155,9 @@ MBX_API mbx_status mbx_mechanism_get_finding(const mbx_mechanism* mechanism, uin
     r.subject_id = f.subject.id.c_str();
     r.subject_name = f.subject.name.c_str();
     r.message = f.message.c_str();
+    r.code_name = f.code_name();
+    r.file = f.file.c_str();
+    r.line = f.line;
     return copy_out(out, r);
 }
 

@@ -21,9 +21,14 @@ const char* finding_code_name(mbx_finding_code code) {
         case MBX_FINDING_SELF_CONSTRAINT: return "self_constraint";
         case MBX_FINDING_NEGATIVE_MASS: return "negative_mass";
         case MBX_FINDING_LIMITS_INVERTED: return "limits_inverted";
+        case MBX_FINDING_HOST_DIAGNOSTIC: return "host_diagnostic";
+        case MBX_FINDING_MASS_MISMATCH: return "mass_mismatch";
+        case MBX_FINDING_SHAPE_NOT_CLOSED: return "shape_not_closed";
     }
     return "unknown";
 }
+
+const char* Finding::code_name() const { return code_text.empty() ? finding_code_name(code) : code_text.c_str(); }
 
 const char* severity_name(mbx_severity severity) {
     switch (severity) {

@@ -31,6 +31,11 @@ struct Finding {
     mbx_finding_code code = MBX_FINDING_HOST_STATUS;
     Subject subject;
     std::string message;
+    std::string code_text;  // host's own code for MBX_FINDING_HOST_DIAGNOSTIC, else ""
+    std::string file;       // input file the finding is about, "" if none
+    int line = 0;
+
+    const char* code_name() const;
 };
 
 using Findings = std::vector<Finding>;

@@ -182,12 +182,16 @@ void write_findings(JsonWriter& w, const Mechanism& m) {
     w.key("findings").begin_array();
     for (const Finding& f : m.findings) {
         w.begin_object();
-        w.member("severity", severity_name(f.severity)).member("code", finding_code_name(f.code));
+        w.member("severity", severity_name(f.severity)).member("code", f.code_name());
         w.key("subject").begin_object(Layout::Inline);
         w.member("kind", subject_kind_name(f.subject.kind));
         w.member("id", f.subject.id).member("name", f.subject.name);
         w.end_object();
         w.member("message", f.message);
+        if (!f.file.empty()) {
+            w.member("file", f.file);
+            w.member("line", f.line);
+        }
         w.end_object();
     }
     w.end_array();

@@ -271,7 +271,7 @@ void write_findings(Text& t, const Mechanism& m, const Counts& c) {
         t.raw("  ").raw(g.title).raw(" (").num(static_cast<long long>(g.n)).raw(")").end_line();
         for (const Finding& f : m.findings) {
             if (f.severity != g.severity) continue;
-            t.raw("    ").raw(severity_name(f.severity)).raw(" ").raw(finding_code_name(f.code));
+            t.raw("    ").raw(severity_name(f.severity)).raw(" ").raw(f.code_name());
             if (f.subject.kind != MBX_SUBJECT_NONE) t.raw(" ").raw(subject_kind_name(f.subject.kind));
             if (!f.subject.name.empty()) t.raw(" ").quoted(f.subject.name);
             if (!f.subject.id.empty()) t.raw(" (").str(f.subject.id).raw(")");

@@ -1,5 +1,5 @@
-// The stub CAD host: mbx_host callbacks over an Assembly. It behaves like a
-// careful real host: it writes only the descriptor fields that lie within
+// mbx_host callbacks over an in-memory Assembly. It behaves like a careful
+// real host: it writes only the descriptor fields that lie within
 // the struct_size the SDK declared, hands out strings it owns, and reports
 // failures through the message buffer.
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <new>
 #include <unordered_map>
 
-#include "stub_assembly.h"
+#include "memory_host.h"
 
 // Write `field` only if the SDK's descriptor is large enough to hold it.
 #define STUB_SET(out, type, field, value)                         \
@@ -23,11 +23,12 @@
         if (MBX_FIELD_FITS(out, type, field)) std::memcpy(&(out)->field, &(source), sizeof((out)->field)); \
     } while (0)
 
-namespace mbx_stub {
+namespace mbx_memory {
 
 struct Host::State {
     Assembly assembly;
     Faults faults;
+    ShapeSource shape_source;
     CallCounts counts;
     std::vector<std::string> shape_requests;
     std::unordered_map<std::string, size_t> body_index;
@@ -65,11 +66,11 @@ int body_count(void* user_data, size_t* out_count) {
 int get_body(void* user_data, size_t index, mbx_body_desc* out, char* message, size_t message_size) {
     State& s = state(user_data);
     ++s.counts.bodies;
-    if (!out) return fail(message, message_size, "stub host: get_body without a descriptor");
-    if (index >= s.assembly.bodies.size()) return fail(message, message_size, "stub host: no body at index %zu", index);
+    if (!out) return fail(message, message_size, "memory host: get_body without a descriptor");
+    if (index >= s.assembly.bodies.size()) return fail(message, message_size, "memory host: no body at index %zu", index);
     const Body& b = s.assembly.bodies[index];
     if (long(index) == s.faults.fail_at_body)
-        return fail(message, message_size, "stub host: simulated failure reading body %s", b.id.c_str());
+        return fail(message, message_size, "memory host: simulated failure reading body %s", b.id.c_str());
     const double mass = long(index) == s.faults.nan_at_body ? std::numeric_limits<double>::quiet_NaN() : b.mass;
     STUB_SET(out, mbx_body_desc, id, b.id.c_str());
     STUB_SET(out, mbx_body_desc, name, or_null(b.name));
@@ -91,9 +92,9 @@ int frame_count(void* user_data, size_t* out_count) {
 int get_frame(void* user_data, size_t index, mbx_frame_desc* out, char* message, size_t message_size) {
     State& s = state(user_data);
     ++s.counts.frames;
-    if (!out) return fail(message, message_size, "stub host: get_frame without a descriptor");
+    if (!out) return fail(message, message_size, "memory host: get_frame without a descriptor");
     if (index >= s.assembly.frames.size())
-        return fail(message, message_size, "stub host: no frame at index %zu", index);
+        return fail(message, message_size, "memory host: no frame at index %zu", index);
     const Frame& f = s.assembly.frames[index];
     STUB_SET(out, mbx_frame_desc, id, f.id.c_str());
     STUB_SET(out, mbx_frame_desc, name, or_null(f.name));
@@ -113,12 +114,12 @@ int constraint_count(void* user_data, size_t* out_count) {
 int get_constraint(void* user_data, size_t index, mbx_constraint_desc* out, char* message, size_t message_size) {
     State& s = state(user_data);
     ++s.counts.constraints;
-    if (!out) return fail(message, message_size, "stub host: get_constraint without a descriptor");
+    if (!out) return fail(message, message_size, "memory host: get_constraint without a descriptor");
     if (index >= s.assembly.constraints.size())
-        return fail(message, message_size, "stub host: no constraint at index %zu", index);
+        return fail(message, message_size, "memory host: no constraint at index %zu", index);
     const Constraint& c = s.assembly.constraints[index];
     if (long(index) == s.faults.fail_at_constraint)
-        return fail(message, message_size, "stub host: simulated failure reading constraint %s", c.id.c_str());
+        return fail(message, message_size, "memory host: simulated failure reading constraint %s", c.id.c_str());
     STUB_SET(out, mbx_constraint_desc, id, c.id.c_str());
     STUB_SET(out, mbx_constraint_desc, name, or_null(c.name));
     STUB_SET(out, mbx_constraint_desc, base_frame_id, c.base_frame_id.c_str());
@@ -132,12 +133,12 @@ int get_primitive(void* user_data, size_t constraint_index, size_t primitive_ind
                   char* message, size_t message_size) {
     State& s = state(user_data);
     ++s.counts.primitives;
-    if (!out) return fail(message, message_size, "stub host: get_primitive without a descriptor");
+    if (!out) return fail(message, message_size, "memory host: get_primitive without a descriptor");
     if (constraint_index >= s.assembly.constraints.size())
-        return fail(message, message_size, "stub host: no constraint at index %zu", constraint_index);
+        return fail(message, message_size, "memory host: no constraint at index %zu", constraint_index);
     const Constraint& c = s.assembly.constraints[constraint_index];
     if (primitive_index >= c.chain.size())
-        return fail(message, message_size, "stub host: constraint %s has no primitive %zu", c.id.c_str(),
+        return fail(message, message_size, "memory host: constraint %s has no primitive %zu", c.id.c_str(),
                     primitive_index);
     const Primitive& p = c.chain[primitive_index];
     STUB_SET(out, mbx_primitive_desc, type, p.type);
@@ -154,17 +155,26 @@ int get_shapes(void* user_data, const char* body_id, const mbx_shape_sink* sink,
     State& s = state(user_data);
     ++s.counts.shapes;
     s.shape_requests.emplace_back(body_id ? body_id : "");
-    if (!body_id || !sink) return fail(message, message_size, "stub host: get_shapes without a body id or sink");
+    if (!body_id || !sink) return fail(message, message_size, "memory host: get_shapes without a body id or sink");
     const auto found = s.body_index.find(body_id);
-    if (found == s.body_index.end()) return fail(message, message_size, "stub host: no body with id %s", body_id);
+    if (found == s.body_index.end()) return fail(message, message_size, "memory host: no body with id %s", body_id);
     if (long(found->second) == s.faults.fail_shapes_at_body)
-        return fail(message, message_size, "stub host: simulated failure reading shapes of body %s", body_id);
+        return fail(message, message_size, "memory host: simulated failure reading shapes of body %s", body_id);
     if (!MBX_FIELD_FITS(sink, mbx_shape_sink, add_mesh) || !sink->add_mesh)
-        return fail(message, message_size, "stub host: shape sink without add_mesh");
-    const auto meshes = s.assembly.shapes.find(body_id);
-    if (meshes == s.assembly.shapes.end()) return 0;  // a part without geometry
+        return fail(message, message_size, "memory host: shape sink without add_mesh");
     const Body& body = s.assembly.bodies[found->second];
-    for (const Mesh& m : meshes->second) {
+    const auto stored = s.assembly.shapes.find(body_id);
+    std::vector<Mesh> loaded;
+    if (s.shape_source) {
+        std::string error;
+        if (!s.shape_source(body, loaded, error))
+            return fail(message, message_size, "%s", error.c_str());
+    }
+    const std::vector<Mesh> none;
+    const std::vector<Mesh>& first = stored == s.assembly.shapes.end() ? none : stored->second;
+    const std::vector<Mesh>* lists[] = {&first, &loaded};
+    for (const std::vector<Mesh>* list : lists)
+    for (const Mesh& m : *list) {
         mbx_mesh_desc d{};
         d.struct_size = sizeof(d);
         d.name = m.name.c_str();
@@ -175,8 +185,29 @@ int get_shapes(void* user_data, const char* body_id, const mbx_shape_sink* sink,
         d.triangles = m.triangles.data();
         d.triangle_count = uint32_t(m.triangles.size() / 3);
         if (sink->add_mesh(sink->sink_data, &d) != 0)
-            return fail(message, message_size, "stub host: mesh %s of body %s was rejected", m.name.c_str(), body_id);
+            return fail(message, message_size, "memory host: mesh %s of body %s was rejected", m.name.c_str(), body_id);
     }
+    return 0;
+}
+
+int diagnostic_count(void* user_data, size_t* out_count) {
+    if (!out_count) return 1;
+    *out_count = state(user_data).assembly.diagnostics.size();
+    return 0;
+}
+
+int get_diagnostic(void* user_data, size_t index, mbx_host_diagnostic* out) {
+    const State& s = state(user_data);
+    if (!out || index >= s.assembly.diagnostics.size()) return 1;
+    const Diagnostic& d = s.assembly.diagnostics[index];
+    STUB_SET(out, mbx_host_diagnostic, severity, d.severity);
+    STUB_SET(out, mbx_host_diagnostic, code, or_null(d.code));
+    STUB_SET(out, mbx_host_diagnostic, subject_kind, d.subject_kind);
+    STUB_SET(out, mbx_host_diagnostic, subject_id, d.subject_id.c_str());
+    STUB_SET(out, mbx_host_diagnostic, subject_name, d.subject_name.c_str());
+    STUB_SET(out, mbx_host_diagnostic, file, or_null(d.file));
+    STUB_SET(out, mbx_host_diagnostic, line, d.line);
+    STUB_SET(out, mbx_host_diagnostic, message, d.message.c_str());
     return 0;
 }
 
@@ -202,6 +233,8 @@ void init(State& s) {
     t.get_primitive = get_primitive;
     t.get_shapes = get_shapes;
     t.describe_assembly = describe_assembly;
+    t.diagnostic_count = diagnostic_count;
+    t.get_diagnostic = get_diagnostic;
 
     // An old host's table: the version-1 prefix and not one byte more.
     s.v1_block = std::malloc(MBX_HOST_V1_SIZE);
@@ -215,15 +248,17 @@ void init(State& s) {
 
 }  // namespace
 
-Host::Host(const Assembly& assembly, Faults faults) : state_(new State) {
+Host::Host(const Assembly& assembly, Faults faults, ShapeSource shape_source) : state_(new State) {
     state_->assembly = assembly;
     state_->faults = faults;
+    state_->shape_source = std::move(shape_source);
     init(*state_);
 }
 
-Host::Host(Assembly&& assembly, Faults faults) : state_(new State) {
+Host::Host(Assembly&& assembly, Faults faults, ShapeSource shape_source) : state_(new State) {
     state_->assembly = std::move(assembly);
     state_->faults = faults;
+    state_->shape_source = std::move(shape_source);
     init(*state_);
 }
 
@@ -242,4 +277,4 @@ void Host::reset_counts() {
 const Assembly& Host::assembly() const { return state_->assembly; }
 const Faults& Host::faults() const { return state_->faults; }
 
-}  // namespace mbx_stub
+}  // namespace mbx_memory
