@@ -207,11 +207,23 @@ TEST_CASE("report json: parts and bodies") {
     const json j = json::parse(mbx::report_json(four_part_mechanism()));
     const json& parts = j["parts"];
     REQUIRE(parts.size() == 5);
-    CHECK(parts[0] == json{{"id", "p-base"}, {"name", "Base"}, {"flags", {"ground"}}, {"mass", 10}, {"rigid_body", 0}});
+    CHECK(parts[0] == json{{"id", "p-base"}, {"name", "Base"}, {"flags", {"ground"}}, {"mass", 10}, {"rigid_body", 0},
+                           {"shape_check", nullptr}});
     CHECK(parts[2]["rigid_body"] == 1);
     CHECK(parts[4]["flags"] == json{"ground", "helper"});
     CHECK(parts[4]["rigid_body"].is_null());
     CHECK(parts[1]["flags"] == json::array());
+
+    // With a mesh check, the part carries its numbers in report units.
+    mbx::Mechanism checked = four_part_mechanism();
+    checked.shape_checks.resize(checked.assembly.parts.size());
+    checked.shape_checks[2] = {true, 2e-6, 0.0031, 2700, 0.001};
+    const json c = json::parse(mbx::report_json(checked))["parts"][2]["shape_check"];
+    CHECK(c["centroid_mismatch_mm"].get<double>() == doctest::Approx(3.1));
+    CHECK(c["tolerance_mm"].get<double>() == doctest::Approx(1.0));
+    CHECK(c["mesh_volume_m3"].get<double>() == doctest::Approx(2e-6));
+    CHECK(c["density_kg_m3"].get<double>() == doctest::Approx(2700));
+    CHECK(mbx::report_text(checked).find("3.1 mm (above 1 mm)") != std::string::npos);
 
     const json& bodies = j["bodies"];
     REQUIRE(bodies.size() == 3);

@@ -44,4 +44,13 @@ struct mbx_mechanism {
     bool has_host = false;
     std::vector<std::unique_ptr<std::vector<mbx::Mesh>>> shapes;  // per rigid body, loaded on demand
     mutable std::unordered_map<std::string, int> part_index;       // built on the first lookup
+
+    // Meshes of rigid body `body`, asked from the host once, then cached.
+    // `m` is passed because during translation `model` is not set yet.
+    const std::vector<mbx::Mesh>& body_shapes(const mbx::Mechanism& m, int body) {
+        if (shapes.size() < m.bodies.size()) shapes.resize(m.bodies.size());
+        auto& cache = shapes[size_t(body)];
+        if (!cache) cache = std::make_unique<std::vector<mbx::Mesh>>(mbx::load_body_shapes(host, m, body));
+        return *cache;
+    }
 };

@@ -166,18 +166,17 @@ MBX_API mbx_status mbx_mechanism_get_shape_stats(mbx_context* context, mbx_mecha
     if (!context) return MBX_ERROR_INVALID_ARGUMENT;
     if (!valid(mechanism) || index >= mechanism->model->bodies.size() || !out)
         return context->fail(MBX_ERROR_INVALID_ARGUMENT, "no such mechanism or rigid body " + std::to_string(index));
-    auto& cache = mechanism->shapes[index];
-    if (!cache && !mechanism->has_host)
+    const bool cached = index < mechanism->shapes.size() && mechanism->shapes[index];
+    if (!cached && !mechanism->has_host)
         return context->fail(MBX_ERROR_INVALID_ARGUMENT,
                              "the host was released; shapes of rigid body " + std::to_string(index) +
                                  " can no longer be asked for");
     return guarded(context, [&] {
-        if (!cache)
-            cache = std::make_unique<std::vector<Mesh>>(load_body_shapes(mechanism->host, *mechanism->model, int(index)));
+        const std::vector<Mesh>& meshes = mechanism->body_shapes(*mechanism->model, int(index));
         mbx_shape_stats s{};
         s.struct_size = sizeof s;
         Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-        for (const Mesh& mesh : *cache) {
+        for (const Mesh& mesh : meshes) {
             ++s.mesh_count;
             s.vertex_count += mesh.vertices.size();
             s.triangle_count += mesh.triangles.size() / 3;

@@ -21,6 +21,10 @@ TranslateOptions read_options(const mbx_translate_options* in) {
         o.orthonormality_tolerance = in->orthonormality_tolerance;
     if (MBX_FIELD_FITS(in, mbx_translate_options, rank_tolerance) && in->rank_tolerance > 0)
         o.rank_tolerance = in->rank_tolerance;
+    if (MBX_FIELD_FITS(in, mbx_translate_options, flags))
+        o.check_mass_with_shapes = in->flags & MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
+    if (MBX_FIELD_FITS(in, mbx_translate_options, centroid_tolerance) && in->centroid_tolerance > 0)
+        o.centroid_tolerance = in->centroid_tolerance;
     return o;
 }
 
@@ -44,11 +48,13 @@ MBX_API mbx_status mbx_translate(mbx_context* context, const mbx_host* host, con
         read.orthonormality_tolerance = opts.orthonormality_tolerance;
         Assembly assembly = read_host(host, read, progress, findings);
         auto handle = std::make_unique<mbx_mechanism>();
-        handle->model = translate_assembly(std::move(assembly), std::move(findings), opts, progress);
         std::memcpy(&handle->host, host, std::min<size_t>(host->struct_size, sizeof(mbx_host)));
         handle->host.struct_size = std::min<uint32_t>(host->struct_size, sizeof(mbx_host));
         handle->has_host = true;
-        handle->shapes.resize(handle->model->bodies.size());
+        // Shapes fetched by the mass check stay cached for later consumers.
+        mbx_mechanism* h = handle.get();
+        auto fetch = [h](const Mechanism& m, int body) -> const std::vector<Mesh>& { return h->body_shapes(m, body); };
+        handle->model = translate_assembly(std::move(assembly), std::move(findings), opts, progress, fetch);
         *out_mechanism = handle.release();
     });
 }

@@ -87,6 +87,17 @@ void write_parts(JsonWriter& w, const Mechanism& m) {
         w.member("mass", p.mass);
         const int body = i < m.part_body.size() ? m.part_body[i] : -1;
         write_index_or_null(w, "rigid_body", valid_index(m.bodies, body) ? body : -1);
+        if (i < m.shape_checks.size() && m.shape_checks[i].checked) {
+            const ShapeCheck& c = m.shape_checks[i];
+            w.key("shape_check").begin_object(Layout::Inline);
+            w.member("mesh_volume_m3", c.volume);
+            w.member("centroid_mismatch_mm", c.centroid_mismatch * 1e3);
+            w.member("tolerance_mm", c.tolerance * 1e3);
+            w.member("density_kg_m3", c.density);
+            w.end_object();
+        } else {
+            w.key("shape_check").null();
+        }
         w.end_object();
     }
     w.end_array();

@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <charconv>
+#include <vector>
 #include <cmath>
 
 #include "report/report.h"
@@ -255,6 +257,30 @@ void write_loops(Text& t, const Mechanism& m) {
     }
 }
 
+// Parts whose CAD mass data was checked against their meshes, worst first;
+// only printed when the check ran.
+void write_shape_checks(Text& t, const Mechanism& m) {
+    std::vector<std::size_t> checked;
+    for (std::size_t i = 0; i < m.shape_checks.size(); ++i)
+        if (m.shape_checks[i].checked) checked.push_back(i);
+    if (checked.empty()) return;
+    std::stable_sort(checked.begin(), checked.end(), [&](std::size_t a, std::size_t b) {
+        return m.shape_checks[a].centroid_mismatch > m.shape_checks[b].centroid_mismatch;
+    });
+    t.raw("Mass data against meshes (").num(static_cast<long long>(checked.size()))
+        .raw(" closed parts; centroid mismatch, worst first)").end_line();
+    const std::size_t shown = checked.size() < 50 ? checked.size() : 50;
+    for (std::size_t k = 0; k < shown; ++k) {
+        const ShapeCheck& c = m.shape_checks[checked[k]];
+        t.raw("  ").quoted(m.assembly.parts[checked[k]].name).raw(": ").real(c.centroid_mismatch * 1e3).raw(" mm");
+        t.raw(c.centroid_mismatch > c.tolerance ? " (above " : " (within ").real(c.tolerance * 1e3).raw(" mm)");
+        t.raw(", mesh volume ").real(c.volume * 1e9).raw(" mm^3, density ").real(c.density).raw(" kg/m^3");
+        t.end_line();
+    }
+    if (shown < checked.size()) t.raw("  ... ").num(static_cast<long long>(checked.size() - shown)).raw(" more").end_line();
+    t.blank();
+}
+
 void write_findings(Text& t, const Mechanism& m, const Counts& c) {
     t.raw("Findings (").num(static_cast<long long>(m.findings.size())).raw(")").end_line();
     if (m.findings.empty()) t.raw("  none").end_line();
@@ -300,6 +326,7 @@ std::string report_text(const Mechanism& m) {
     t.blank();
     write_loops(t, m);
     t.blank();
+    write_shape_checks(t, m);
     write_findings(t, m, c);
     return t.take();
 }

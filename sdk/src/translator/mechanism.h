@@ -59,6 +59,15 @@ struct Loop {
     Vec3 planar_normal = Vec3::Zero();
 };
 
+// A part's CAD mass data compared with its own closed meshes.
+struct ShapeCheck {
+    bool checked = false;
+    double volume = 0;             // m^3, from the meshes
+    double centroid_mismatch = 0;  // m, mesh centroid to CAD centre of mass
+    double density = 0;            // kg/m^3, CAD mass / mesh volume
+    double tolerance = 0;          // m, the threshold that applied
+};
+
 struct Mechanism {
     Assembly assembly;
     std::vector<RigidBody> bodies;  // [0] ground, then dynamic bodies, then joint nodes
@@ -73,6 +82,7 @@ struct Mechanism {
     int gruebler_dof = 0;
     int redundant = 0;
     double length_tolerance = 0;  // metres, as used
+    std::vector<ShapeCheck> shape_checks;  // per part; empty unless asked for
 
     Findings findings;
 
@@ -90,6 +100,8 @@ struct TranslateOptions {
     double length_tolerance = 0;           // 0: automatic
     double orthonormality_tolerance = 1e-5;
     double rank_tolerance = 1e-6;
+    bool check_mass_with_shapes = false;
+    double centroid_tolerance = 0;         // 0: max(1 mm, 2 % of the mesh size)
 };
 
 }  // namespace mbx

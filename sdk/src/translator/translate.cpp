@@ -7,7 +7,7 @@
 namespace mbx {
 
 std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findings, const TranslateOptions& options,
-                                              Progress& progress) {
+                                              Progress& progress, const ShapeFetcher& shapes) {
     auto m = std::make_unique<Mechanism>();
     m->assembly = std::move(assembly);
     m->findings = std::move(findings);
@@ -16,6 +16,8 @@ std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findin
     merge_welds(*m, progress);
     build_tree(*m, progress);
     validate(*m, progress);
+    if (options.check_mass_with_shapes && shapes)
+        check_mass_with_shapes(*m, shapes, options.centroid_tolerance, progress);
     progress.stage("mobility", m->loops.size());
     analyze_mobility(*m, options);
     progress.finish();

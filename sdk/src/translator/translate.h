@@ -1,6 +1,7 @@
 // The translator: assembly in, mechanism out (thesis section 2.6, with loops,
 // weld merging, mobility and validation).
 #pragma once
+#include <functional>
 #include <memory>
 
 #include "assembly/assembly.h"
@@ -11,12 +12,17 @@ namespace mbx {
 
 // Builds the mechanism from an already pulled assembly. `findings` are those
 // gathered while pulling; they come first in the report.
+struct Mesh;
+// Meshes of rigid body `body` in its frame (see assembly/shape_loader.h).
+using ShapeFetcher = std::function<const std::vector<Mesh>&(const Mechanism& m, int body)>;
+
 std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findings, const TranslateOptions& options,
-                                              Progress& progress);
+                                              Progress& progress, const ShapeFetcher& shapes = {});
 
 // Stages, callable one by one from tests. Each appends its findings.
 void merge_welds(Mechanism& m, Progress& progress);
 void build_tree(Mechanism& m, Progress& progress);
 void validate(Mechanism& m, Progress& progress);
+void check_mass_with_shapes(Mechanism& m, const ShapeFetcher& shapes, double centroid_tolerance, Progress& progress);
 
 }  // namespace mbx
