@@ -59,10 +59,15 @@ void report_loop(Mechanism& mech, int loop_index) {
                      "); Modelica needs one planar-loop cut joint here.");
     }
     if (unexpected > 0) {
-        std::string what = loop.planar ? "beyond the 3 out-of-plane equations every planar loop has"
-                                       : "of its 6 closure equations";
+        const int independent = 6 - loop.redundant;
+        const std::string are = independent == 1 ? " is" : " are";
+        std::string what = loop.planar ? " beyond the 3 out-of-plane equations every planar loop has (only " +
+                                             std::to_string(independent) + " of its 3 in-plane equations" + are +
+                                             " independent)"
+                                       : " (only " + std::to_string(independent) + " of its 6 closure equations" +
+                                             are + " independent)";
         mech.add(MBX_SEVERITY_WARNING, MBX_FINDING_REDUNDANT_CONSTRAINTS, Subject::loop(id),
-                 title + " has " + plural(unexpected, "redundant constraint", "redundant constraints") + " " + what +
+                 title + " has " + plural(unexpected, "redundant constraint", "redundant constraints") + what +
                      "; a solver sees a singular constraint Jacobian unless joints are relaxed by " +
                      (unexpected == 1 ? "one freedom" : "that many freedoms") +
                      " (e.g. a revolute replaced by a universal or spherical joint).");
@@ -71,9 +76,9 @@ void report_loop(Mechanism& mech, int loop_index) {
         const int f = freedoms(mech, loop);
         std::string why;
         if (loop.dof == 0 && loop.gruebler_dof < 0) {
-            why = "its " + plural(f, "joint freedom", "joint freedoms") + " cannot satisfy its " +
+            why = "its " + plural(f, "joint freedom is", "joint freedoms are") + " fewer than its " +
                   std::to_string(equations) + " closure equations, so it is rigid and the negative count only " +
-                  "measures how over-constrained it is.";
+                  "measures by how much it is over-constrained.";
         } else if (loop.dof > loop.gruebler_dof) {
             why = "its geometry is special (parallel, intersecting or coincident axes), which makes " +
                   plural(loop.dof - loop.gruebler_dof, "closure equation", "closure equations") +

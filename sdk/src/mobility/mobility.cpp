@@ -98,6 +98,7 @@ void analyze_mobility(Mechanism& mech, const TranslateOptions& options, Progress
 
     std::vector<Eigen::MatrixXd> jacobians(loop_count);
     std::vector<int> loop_rank(loop_count);
+    progress.stage("mobility", loop_count);
     for (size_t i = 0; i < loop_count; ++i) {
         Loop& loop = mech.loops[i];
         jacobians[i] = mobility::loop_jacobian(mech, loop, frames[i], &prismatic_length);
@@ -121,6 +122,7 @@ void analyze_mobility(Mechanism& mech, const TranslateOptions& options, Progress
     mech.gruebler_dof = freedoms - 6 * loops + 6 * mech.floating_roots;
 
     for (size_t i = 0; i < loop_count; ++i) mobility::report_loop(mech, static_cast<int>(i));
+    progress.finish();
 }
 
 }  // namespace mbx

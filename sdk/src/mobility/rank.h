@@ -9,18 +9,20 @@
 // plus residuals below tau. It then counts the singular values of W that
 // are <= tau. That second step is what makes the count match the SVD: local
 // pivots miss a dependency whose null vector is graded, e.g. a mobility that
-// attenuates along a long chain of loops (a 5000-loop ladder leaves a last
-// pivot of 1e-5, far above tau, while its smallest singular value is
-// 1e-16), and S keeps a direction from being counted twice when a column
-// was dropped for it. On geometry within a small factor of the tolerance
-// the two paths may still differ by one.
+// attenuates along a long chain of loops (in a 10 000-loop planar ladder
+// every pivot stays above tau, although the ladder moves), and S keeps a
+// direction from being counted twice when a column was dropped for it. On
+// geometry within a small factor of the tolerance the two paths may still
+// differ by one.
 //
-// Why not Eigen::SparseQR: its left-looking factorization clears two dense
-// work vectors of length max(rows, cols) for every column, which makes it
-// quadratic in the size of a coupled group, and it has the same blind spot
-// for graded dependencies. The multifrontal elimination here does work
-// proportional to the sizes of its fronts, which stay small for loops that
-// only touch their neighbours.
+// Why not Eigen::SparseQR (COLAMD): its left-looking factorization clears
+// two dense work vectors of length max(rows, cols) for every column, so it
+// is at least quadratic in the size of a coupled group (measured on a
+// spatial ladder of four-bars: 300 loops 0.15 s, 350 loops not done after
+// 4 minutes; this code: 2 ms and 0.2 s for 10 000 loops), and its threshold
+// pivots have the same blind spot for graded dependencies. The multifrontal
+// elimination here does work proportional to the sizes of its fronts, which
+// stay small for loops that only touch their neighbours.
 #pragma once
 #include <vector>
 

@@ -87,7 +87,12 @@ struct Mechanism {
     Findings findings;
 
     void add(mbx_severity severity, mbx_finding_code code, Subject subject, std::string message) {
-        findings.push_back({severity, code, std::move(subject), std::move(message)});
+        Finding f;
+        f.severity = severity;
+        f.code = code;
+        f.subject = std::move(subject);
+        f.message = std::move(message);
+        findings.push_back(std::move(f));
     }
     int count(mbx_severity severity) const {
         int n = 0;

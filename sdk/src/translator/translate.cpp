@@ -18,9 +18,7 @@ std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findin
     validate(*m, progress);
     if (options.check_mass_with_shapes && shapes)
         check_mass_with_shapes(*m, shapes, options.centroid_tolerance, progress);
-    progress.stage("mobility", m->loops.size());
-    analyze_mobility(*m, options);
-    progress.finish();
+    analyze_mobility(*m, options, progress);
     return m;
 }
 
