@@ -145,24 +145,33 @@ private:
         }
     }
 
+    // Calls a host getter with a zeroed descriptor of the SDK's size and
+    // checks that the item has an id. `kind` names it in messages ("body").
+    template <class Desc, class Call>
+    Desc fetch(size_t i, mbx_subject_kind subject, const char* kind, Call call) {
+        Desc d;
+        std::memset(&d, 0, sizeof d);
+        d.struct_size = sizeof d;
+        char message[kMessageSize];
+        message[0] = '\0';
+        const std::string where = std::string(kind) + " #" + std::to_string(i);
+        if (call(&d, message) != 0)
+            callback_failed({subject, d.id ? d.id : "#" + std::to_string(i), str(d.name)},
+                            where + (d.id ? " ('" + std::string(d.id) + "')" : ""), message);
+        if (!d.id || !d.id[0])
+            throw Error(MBX_ERROR_INVALID_INPUT, {subject, "#" + std::to_string(i), str(d.name)}, where + " has no id");
+        return d;
+    }
+
     void read_bodies() {
         size_t n = count(host_->body_count, "body");
         out_.parts.reserve(n);
         body_index_.reserve(n);
         progress_.stage("pull bodies", n);
-        char message[kMessageSize];
         for (size_t i = 0; i < n; ++i) {
-            mbx_body_desc d;
-            std::memset(&d, 0, sizeof d);
-            d.struct_size = sizeof d;
-            message[0] = '\0';
-            if (host_->get_body(host_->user_data, i, &d, message, sizeof message) != 0)
-                callback_failed({MBX_SUBJECT_BODY, d.id ? d.id : "#" + std::to_string(i), str(d.name)},
-                                "body #" + std::to_string(i) + (d.id ? " ('" + std::string(d.id) + "')" : ""),
-                                message);
-            if (!d.id || !d.id[0])
-                throw Error(MBX_ERROR_INVALID_INPUT, {MBX_SUBJECT_BODY, "#" + std::to_string(i), str(d.name)},
-                            "body #" + std::to_string(i) + " has no id");
+            const auto d = fetch<mbx_body_desc>(i, MBX_SUBJECT_BODY, "body", [&](mbx_body_desc* out, char* msg) {
+                return host_->get_body(host_->user_data, i, out, msg, kMessageSize);
+            });
             Part p;
             p.id = d.id;
             p.name = d.name ? d.name : d.id;
@@ -196,18 +205,10 @@ private:
         out_.frames.reserve(n);
         frame_index_.reserve(n);
         progress_.stage("pull frames", n);
-        char message[kMessageSize];
         for (size_t i = 0; i < n; ++i) {
-            mbx_frame_desc d;
-            std::memset(&d, 0, sizeof d);
-            d.struct_size = sizeof d;
-            message[0] = '\0';
-            if (host_->get_frame(host_->user_data, i, &d, message, sizeof message) != 0)
-                callback_failed({MBX_SUBJECT_FRAME, d.id ? d.id : "#" + std::to_string(i), str(d.name)},
-                                "frame #" + std::to_string(i), message);
-            if (!d.id || !d.id[0])
-                throw Error(MBX_ERROR_INVALID_INPUT, {MBX_SUBJECT_FRAME, "#" + std::to_string(i), str(d.name)},
-                            "frame #" + std::to_string(i) + " has no id");
+            const auto d = fetch<mbx_frame_desc>(i, MBX_SUBJECT_FRAME, "frame", [&](mbx_frame_desc* out, char* msg) {
+                return host_->get_frame(host_->user_data, i, out, msg, kMessageSize);
+            });
             Frame f;
             f.id = d.id;
             f.name = d.name ? d.name : d.id;
@@ -253,19 +254,11 @@ private:
         std::unordered_map<std::string, int> ids;
         ids.reserve(n);
         progress_.stage("pull constraints", n);
-        char message[kMessageSize];
         for (size_t i = 0; i < n; ++i) {
-            mbx_constraint_desc d;
-            std::memset(&d, 0, sizeof d);
-            d.struct_size = sizeof d;
-            message[0] = '\0';
-            if (host_->get_constraint(host_->user_data, i, &d, message, sizeof message) != 0)
-                callback_failed({MBX_SUBJECT_CONSTRAINT, d.id ? d.id : "#" + std::to_string(i), str(d.name)},
-                                "constraint #" + std::to_string(i) + (d.id ? " ('" + std::string(d.id) + "')" : ""),
-                                message);
-            if (!d.id || !d.id[0])
-                throw Error(MBX_ERROR_INVALID_INPUT, {MBX_SUBJECT_CONSTRAINT, "#" + std::to_string(i), str(d.name)},
-                            "constraint #" + std::to_string(i) + " has no id");
+            const auto d = fetch<mbx_constraint_desc>(
+                i, MBX_SUBJECT_CONSTRAINT, "constraint", [&](mbx_constraint_desc* out, char* msg) {
+                    return host_->get_constraint(host_->user_data, i, out, msg, kMessageSize);
+                });
             Constraint c;
             c.id = d.id;
             c.name = d.name ? d.name : d.id;
