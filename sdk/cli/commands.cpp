@@ -2,10 +2,14 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
+#include <memory>
 #include <string>
 
+#include "file_adapter.h"
 #include "mbx/mbx.h"
 #include "stub_assembly.h"
 
@@ -13,13 +17,23 @@ namespace mbx_cli {
 namespace {
 
 const char* kTranslateUsage =
-    "usage: mbx translate <input> -o <dir> [--strict] [--progress] [--length-tolerance <m>]\n"
+    "usage: mbx translate <input> -o <dir> [--shapes <file.wrl>] [--mesh-dir <dir>]... [--no-mass-check]\n"
+    "                     [--strict] [--progress] [--length-tolerance <m>]\n"
     "\n"
-    "  <input>     a built-in assembly ('mbx list'); PMXML files arrive with the file adapter\n"
+    "  <input>     a SimMechanics first-generation XML export (*.xml), or a built-in assembly ('mbx list')\n"
     "  -o <dir>    output directory (created if missing)\n"
+    "  --shapes <file.wrl>  VRML97 scene of the assembly: its shapes are matched to the XML's bodies by\n"
+    "              pose (bodies whose XML names a mesh file keep that mesh)\n"
+    "  --mesh-dir <dir>  also look here for the mesh files the XML names, after the XML's own directory\n"
+    "              (file names match ignoring case; repeatable)\n"
+    "  --no-mass-check  for XML inputs, skip comparing each closed mesh's centroid with the CAD centre of\n"
+    "              mass (done by default; reported per part)\n"
     "  --strict    exit with code 3 when the report holds errors\n"
     "  --progress  print translation stages to stderr\n"
-    "  --length-tolerance <m>  distance under which joint frames coincide (default: automatic)\n";
+    "  --length-tolerance <m>  distance under which joint frames coincide (default: automatic)\n"
+    "\n"
+    "An XML or VRML file that cannot be read is reported as 'mbx: <file>:<line>: <message>' (exit code 1);\n"
+    "nothing is written then. Missing mesh files and unmatched shapes are findings in the report.\n";
 
 int progress_to_stderr(void*, const char* stage, double fraction) {
     if (fraction == 0.0) std::fprintf(stderr, "mbx: %s...\n", stage);
@@ -45,6 +59,13 @@ bool is_file(const std::string& path) {
     return stat(path.c_str(), &st) == 0;
 }
 
+bool is_xml_path(const std::string& path) {
+    if (path.size() < 4) return false;
+    std::string ext = path.substr(path.size() - 4);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".xml";
+}
+
 }  // namespace
 
 int run_list(const std::vector<std::string>& args) {
@@ -58,7 +79,8 @@ int run_list(const std::vector<std::string>& args) {
 
 int run_translate(const std::vector<std::string>& args) {
     std::string input, out_dir;
-    bool strict = false, progress = false;
+    mbx_files::FileAdapterOptions file_options;
+    bool strict = false, progress = false, mass_check = true;
     double length_tolerance = 0;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -67,6 +89,12 @@ int run_translate(const std::vector<std::string>& args) {
             return 0;
         } else if ((a == "-o" || a == "--output") && i + 1 < args.size()) {
             out_dir = args[++i];
+        } else if (a == "--shapes" && i + 1 < args.size()) {
+            file_options.shapes_path = args[++i];
+        } else if (a == "--mesh-dir" && i + 1 < args.size()) {
+            file_options.mesh_dirs.push_back(args[++i]);
+        } else if (a == "--no-mass-check") {
+            mass_check = false;
         } else if (a == "--strict") {
             strict = true;
         } else if (a == "--progress") {
@@ -93,17 +121,42 @@ int run_translate(const std::vector<std::string>& args) {
         return 2;
     }
 
-    mbx_stub::Assembly assembly;
-    const std::string builtin = input.rfind("builtin:", 0) == 0 ? input.substr(8) : input;
-    if (!mbx_stub::builtin_assembly(builtin, assembly)) {
-        if (is_file(input))
-            std::fprintf(stderr, "mbx translate: '%s' is a file; file inputs (PMXML + VRML) are not supported yet\n",
-                         input.c_str());
-        else
-            std::fprintf(stderr, "mbx translate: no built-in assembly named '%s' (see 'mbx list')\n", input.c_str());
-        return 1;
+    const bool file_input = is_xml_path(input);
+    if (!file_input && (!file_options.shapes_path.empty() || !file_options.mesh_dirs.empty())) {
+        std::fprintf(stderr, "mbx translate: --shapes and --mesh-dir apply to XML inputs only\n");
+        return 2;
     }
-    mbx_stub::Host host(assembly);
+    // Declared before the context: the host must outlive the mechanism.
+    std::unique_ptr<mbx_files::FileAdapter> adapter;
+    std::unique_ptr<mbx_stub::Host> stub_host;
+    const mbx_host* table = nullptr;
+    if (file_input) {
+        try {
+            adapter = mbx_files::FileAdapter::open(input, file_options);
+        } catch (const mbx_files::FileError& e) {
+            std::fprintf(stderr, "mbx: %s:%d: %s\n", e.file().c_str(), e.line(), e.message().c_str());
+            return 1;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "mbx: %s: %s\n", input.c_str(), e.what());
+            return 1;
+        }
+        table = adapter->table();
+    } else {
+        mbx_stub::Assembly assembly;
+        const std::string builtin = input.rfind("builtin:", 0) == 0 ? input.substr(8) : input;
+        if (!mbx_stub::builtin_assembly(builtin, assembly)) {
+            if (is_file(input))
+                std::fprintf(stderr,
+                             "mbx translate: '%s' is neither an XML file (*.xml) nor a built-in assembly\n",
+                             input.c_str());
+            else
+                std::fprintf(stderr, "mbx translate: no built-in assembly named '%s' (see 'mbx list')\n",
+                             input.c_str());
+            return 1;
+        }
+        stub_host = std::make_unique<mbx_stub::Host>(assembly);
+        table = stub_host->table();
+    }
 
     Context c;
     if (mbx_context_create(&c.ctx) != MBX_OK) {
@@ -114,10 +167,16 @@ int run_translate(const std::vector<std::string>& args) {
     mbx_translate_options options{};
     options.struct_size = sizeof options;
     options.length_tolerance = length_tolerance;
-    mbx_status status = mbx_translate(c.ctx, host.table(), &options, &c.mech);
+    if (file_input && mass_check) options.flags = MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
+    mbx_status status = mbx_translate(c.ctx, table, &options, &c.mech);
     if (status != MBX_OK) return fail(c, status, "translation");
     status = mbx_mechanism_write_report(c.ctx, c.mech, out_dir.c_str());
     if (status != MBX_OK) return fail(c, status, "writing the report");
+    // Mesh files that broke only when loaded came after the report's host
+    // diagnostics were taken; say so here rather than not at all.
+    if (adapter)
+        for (const mbx_memory::Diagnostic& d : adapter->late_diagnostics())
+            std::fprintf(stderr, "mbx: warning: %s:%d: %s\n", d.file.c_str(), d.line, d.message.c_str());
 
     mbx_mechanism_summary s{};
     s.struct_size = sizeof s;

@@ -1,0 +1,158 @@
+#include "mesh_file.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+namespace mbx_files {
+namespace fs = std::filesystem;
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, mbx_memory::Mesh& out) {
+    const aiMatrix4x4 world = parent * node.mTransformation;
+    for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+        const aiMesh& mesh = *scene.mMeshes[node.mMeshes[k]];
+        const uint32_t base = uint32_t(out.vertices.size() / 3);
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            const aiVector3D p = world * mesh.mVertices[v];
+            out.vertices.insert(out.vertices.end(), {double(p.x), double(p.y), double(p.z)});
+        }
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+            const aiFace& face = mesh.mFaces[f];
+            if (face.mNumIndices != 3) continue;  // points and lines carry no volume
+            for (unsigned i = 0; i < 3; ++i) out.triangles.push_back(base + face.mIndices[i]);
+        }
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], world, out);
+}
+
+}  // namespace
+
+MeshFileFinder::MeshFileFinder(std::vector<std::string> directories) : directories_(std::move(directories)) {}
+
+const std::map<std::string, std::string>* MeshFileFinder::listing(const std::string& directory) {
+    auto found = listings_.find(directory);
+    if (found == listings_.end()) {
+        std::error_code ec;
+        std::vector<std::string> names;
+        for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+            std::error_code file_ec;
+            if (it->is_regular_file(file_ec)) names.push_back(it->path().filename().string());
+        }
+        std::optional<std::map<std::string, std::string>> map;
+        if (!ec) {
+            // Sorted so that, among names differing only in case, the choice
+            // does not depend on the order the file system lists them in.
+            std::sort(names.begin(), names.end());
+            map.emplace();
+            for (const std::string& n : names) map->emplace(lower(n), n);
+        }
+        found = listings_.emplace(directory, std::move(map)).first;
+    }
+    return found->second ? &*found->second : nullptr;
+}
+
+std::string MeshFileFinder::find(const std::string& name) {
+    std::string portable = name;
+    std::replace(portable.begin(), portable.end(), '\\', '/');
+    const fs::path path(portable);
+    const std::string file = path.filename().string();
+    if (file.empty()) return {};
+    std::vector<fs::path> candidates;
+    if (path.is_absolute())
+        candidates.push_back(path.parent_path());
+    else
+        for (const std::string& d : directories_) candidates.push_back(fs::path(d) / path.parent_path());
+    for (const fs::path& dir : candidates) {
+        const std::string directory = dir.empty() ? std::string(".") : dir.lexically_normal().string();
+        std::error_code ec;
+        if (fs::is_regular_file(fs::path(directory) / file, ec)) return (fs::path(directory) / file).string();
+        const std::map<std::string, std::string>* names = listing(directory);
+        if (!names) continue;
+        const auto it = names->find(lower(file));
+        if (it != names->end()) return (fs::path(directory) / it->second).string();
+    }
+    return {};
+}
+
+bool probe_mesh_file(const std::string& path, std::string& why) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        why = std::string("cannot open it: ") + std::strerror(errno);
+        return false;
+    }
+    std::error_code ec;
+    const uintmax_t size = fs::file_size(path, ec);
+    if (ec || size == 0) {
+        why = ec ? "cannot read its size: " + ec.message() : std::string("the file is empty");
+        return false;
+    }
+    if (lower(fs::path(path).extension().string()) != ".stl") return true;
+    char head[1024] = {};
+    in.read(head, sizeof head);
+    const size_t got = size_t(in.gcount());
+    if (got >= 84) {
+        uint32_t count = 0;
+        for (int i = 3; i >= 0; --i) count = (count << 8) | static_cast<unsigned char>(head[80 + i]);
+        if (uintmax_t(84) + uintmax_t(50) * count == size && count > 0) return true;
+    }
+    const std::string text = lower(std::string(head, got));
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos || text.compare(first, 5, "solid") != 0 || text.find("facet") == std::string::npos) {
+        why = "it is neither a binary STL (84 bytes plus 50 per triangle) nor an ASCII STL ('solid' ... 'facet')";
+        return false;
+    }
+    // A cut-off ASCII STL (an interrupted copy) lacks its closing keyword;
+    // catching it here makes it a diagnostic in the report, not a late load failure.
+    char tail[256] = {};
+    const uintmax_t tail_size = std::min<uintmax_t>(size, sizeof tail);
+    in.clear();
+    in.seekg(std::streamoff(size - tail_size));
+    in.read(tail, std::streamsize(tail_size));
+    if (lower(std::string(tail, size_t(in.gcount()))).find("endsolid") == std::string::npos) {
+        why = "the ASCII STL is cut off (no 'endsolid' at its end)";
+        return false;
+    }
+    return true;
+}
+
+bool load_mesh_file(const std::string& path, mbx_memory::Mesh& out, std::string& error) {
+    Assimp::Importer importer;
+    // STL stores a normal per facet corner; with normals kept, JoinIdenticalVertices
+    // would not weld corners of differently facing facets and no mesh would be closed.
+    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                                            aiComponent_COLORS | aiComponent_TEXCOORDS);
+    const aiScene* scene =
+        importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+    if (!scene || !scene->mRootNode) {
+        error = importer.GetErrorString();
+        if (error.empty()) error = "assimp could not read it";
+        return false;
+    }
+    out = mbx_memory::Mesh{};
+    out.name = fs::path(path).filename().string();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out.pose.rotation[3 * i + j] = i == j ? 1.0 : 0.0;
+    collect(*scene, *scene->mRootNode, aiMatrix4x4(), out);
+    if (out.triangles.empty()) {
+        error = "it holds no triangles";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace mbx_files

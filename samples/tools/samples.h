@@ -1,0 +1,13 @@
+// The committed samples under samples/: each writes its PMXML file, VRML
+// assembly and part geometry files into `directory` (which must exist).
+#pragma once
+#include <string>
+
+namespace mbx_samples {
+
+void make_fourbar_imperial(const std::string& directory);
+void make_double_cardan(const std::string& directory);
+void make_five_axis_arm(const std::string& directory);
+void make_joints_showcase(const std::string& directory);
+
+}  // namespace mbx_samples

@@ -1,0 +1,85 @@
+// `mbx translate` with XML inputs: the exit codes, the error line, and that a
+// failure writes nothing.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "adapter_test_support.h"
+#include "stl_text.h"
+#include "tiny_pmxml.h"
+
+namespace {
+
+struct Run {
+    int code = -1;
+    std::string out, err;
+};
+
+Run run_cli(const atest::TempDir& dir, const std::string& arguments) {
+    const std::string command = std::string("'") + MBX_CLI_PATH + "' " + arguments + " >'" + dir.file("stdout") +
+                                "' 2>'" + dir.file("stderr") + "'";
+    const int status = std::system(command.c_str());
+    Run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = atest::read_file(dir.file("stdout"));
+    r.err = atest::read_file(dir.file("stderr"));
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("cli: an XML input translates with the mass check on by default") {
+    atest::TempDir dir;
+    atest::write_file(dir.file("tiny.xml"), atest::tiny_pmxml());
+    const Eigen::Vector3d com_cs1 = atest::tiny_arm_rotation().transpose() * Eigen::Vector3d(50, 20, 10);
+    atest::write_file(dir.file("arm.stl"), atest::stl_ascii(atest::box_triangles(com_cs1, Eigen::Vector3d(30, 12, 8))));
+
+    const Run r = run_cli(dir, "translate '" + dir.file("tiny.xml") + "' -o '" + dir.file("out") + "'");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("5 parts") != std::string::npos);
+    const std::string json = atest::read_file(dir.file("out/report.json"));
+    CHECK(json.find("\"centroid_mismatch_mm\"") != std::string::npos);
+    CHECK(json.find("mesh_file_missing") != std::string::npos);
+
+    const Run off =
+        run_cli(dir, "translate '" + dir.file("tiny.xml") + "' --no-mass-check -o '" + dir.file("out2") + "'");
+    CHECK(off.code == 0);
+    CHECK(atest::read_file(dir.file("out2/report.json")).find("\"centroid_mismatch_mm\"") == std::string::npos);
+}
+
+TEST_CASE("cli: a broken XML file is 'mbx: file:line: message', exit 1, nothing written") {
+    atest::TempDir dir;
+    const std::string text = atest::replace_once(atest::tiny_pmxml(), "<mass>2.5</mass>", "<mass>2.5kg</mass>");
+    atest::write_file(dir.file("bad.xml"), text);
+    const Run r = run_cli(dir, "translate '" + dir.file("bad.xml") + "' -o '" + dir.file("out") + "'");
+    CHECK(r.code == 1);
+    const std::string expected =
+        "mbx: " + dir.file("bad.xml") + ":" + std::to_string(atest::line_of(text, "2.5kg")) + ": body 'ARM': ";
+    CHECK(r.err.rfind(expected, 0) == 0);
+    CHECK_FALSE(std::filesystem::exists(dir.file("out")));
+
+    atest::write_file(dir.file("good.xml"), atest::tiny_pmxml());
+    const Run w = run_cli(dir, "translate '" + dir.file("good.xml") + "' --shapes '" + dir.file("no.wrl") + "' -o '" +
+                                   dir.file("out") + "'");
+    CHECK(w.code == 1);
+    CHECK(w.err.rfind("mbx: " + dir.file("no.wrl") + ":", 0) == 0);
+    CHECK_FALSE(std::filesystem::exists(dir.file("out")));
+}
+
+TEST_CASE("cli: usage mentions the file options; they need an XML input") {
+    atest::TempDir dir;
+    const Run help = run_cli(dir, "translate --help");
+    CHECK(help.code == 0);
+    for (const char* option : {"--shapes", "--mesh-dir", "--no-mass-check", ".xml"}) {
+        CAPTURE(option);
+        CHECK(help.out.find(option) != std::string::npos);
+    }
+    const Run misuse = run_cli(dir, "translate fourbar --shapes x.wrl -o '" + dir.file("out") + "'");
+    CHECK(misuse.code == 2);
+    const Run builtin = run_cli(dir, "translate fourbar -o '" + dir.file("out") + "'");
+    CHECK(builtin.code == 0);
+}
