@@ -1,5 +1,6 @@
 #include "file_adapter.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "mesh_file.h"
@@ -83,6 +84,29 @@ VrmlScene read_scene(const std::string& path) {
 
 }  // namespace
 
+// Sub-directories of `root` breadth first, in name order (deterministic),
+// at most `max_depth` levels and `max_count` directories; unreadable ones are skipped.
+static void append_subdirectories(const std::string& root, int max_depth, size_t max_count, std::vector<std::string>& out) {
+    std::vector<fs::path> level{fs::path(root)};
+    size_t added = 0;
+    for (int depth = 0; depth < max_depth && !level.empty() && added < max_count; ++depth) {
+        std::vector<fs::path> next;
+        for (const fs::path& dir : level) {
+            std::error_code ec;
+            std::vector<fs::path> children;
+            for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+                if (it->is_directory(ec) && !it->is_symlink(ec)) children.push_back(it->path());
+            std::sort(children.begin(), children.end());
+            for (const fs::path& c : children) {
+                if (added++ >= max_count) break;
+                out.push_back(c.string());
+                next.push_back(c);
+            }
+        }
+        level = std::move(next);
+    }
+}
+
 std::unique_ptr<FileAdapter> FileAdapter::open(const std::string& xml_path, const FileAdapterOptions& options) {
     std::unique_ptr<FileAdapter> self(new FileAdapter());
     self->model_ = read_pmxml(xml_path);
@@ -94,6 +118,9 @@ std::unique_ptr<FileAdapter> FileAdapter::open(const std::string& xml_path, cons
     std::vector<std::string> dirs{fs::path(xml_path).parent_path().string()};
     if (dirs[0].empty()) dirs[0] = ".";
     dirs.insert(dirs.end(), options.mesh_dirs.begin(), options.mesh_dirs.end());
+    // Exports are often reorganised into meshes/<exporter>/ beside the XML;
+    // after the directories named above, look a few levels down.
+    append_subdirectories(dirs[0], 3, 256, dirs);
     MeshFileFinder finder(dirs);
     for (const PmxmlBody& b : model.bodies) {
         if (b.geometry_file.empty()) continue;

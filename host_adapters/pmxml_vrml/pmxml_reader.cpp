@@ -326,7 +326,8 @@ private:
         body.node_id = text_of(g, "nodeID");
         if (body.name.empty()) body.name = body.node_id.empty() ? "RootGround" : body.node_id;
         body.id = body_id(g, body.node_id, body.name, body.name);
-        body.flags = MBX_BODY_GROUND;
+        // The world's datum, not a CAD part: ground and massless helper.
+        body.flags = MBX_BODY_GROUND | MBX_BODY_HELPER;
         const std::string who = "ground " + q(body.name);
         pugi::xml_node f = g.child("frame").child("Frame");
         if (!f) f = g.child("Frame");

@@ -183,7 +183,7 @@ int run_translate(const std::vector<std::string>& args) {
     mbx_mechanism_get_summary(c.mech, &s);
     std::printf("%s: %u parts -> %u rigid bodies, %u joints (%u cut), %u loops (%u planar), %d DoF "
                 "(Gruebler %d), %u warnings, %u errors\n",
-                input.c_str(), s.part_count, s.rigid_body_count, s.joint_count, s.cut_joint_count, s.loop_count,
+                input.c_str(), s.cad_part_count, s.rigid_body_count, s.joint_count, s.cut_joint_count, s.loop_count,
                 s.planar_loop_count, s.dof, s.gruebler_dof, s.warning_count, s.error_count);
     std::printf("report: %s/report.json\nreport: %s/report.txt\n", out_dir.c_str(), out_dir.c_str());
     return strict && s.error_count > 0 ? 3 : 0;

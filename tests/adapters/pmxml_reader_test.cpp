@@ -53,7 +53,7 @@ TEST_CASE("pmxml: the tiny model reads with ids, flags, subsystems and global re
     CHECK(m.bodies[1].id == "12");
     CHECK(m.bodies[1].flags == 0u);
     CHECK(m.bodies[2].id == "RootGround");
-    CHECK(m.bodies[2].flags == MBX_BODY_GROUND);
+    CHECK(m.bodies[2].flags == (MBX_BODY_GROUND | MBX_BODY_HELPER));  // RootGround: a world datum
     CHECK(m.bodies[3].id == "TINY/SUB/RootPart");
     CHECK(m.bodies[3].flags == MBX_BODY_HELPER);
     CHECK(m.bodies[4].id == "SUB/31");

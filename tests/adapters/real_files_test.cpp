@@ -115,8 +115,8 @@ Cycles joint_graph_cycles(const std::string& xml) {
 
 std::set<std::string> helper_ids(const mbx_memory::Assembly& a) {
     std::set<std::string> out;
-    for (const mbx_memory::Body& b : a.bodies)
-        if (b.flags & MBX_BODY_HELPER) out.insert(b.id);
+    for (const mbx_memory::Body& b : a.bodies)  // RootParts; RootGround (ground too) is the world datum
+        if ((b.flags & MBX_BODY_HELPER) && !(b.flags & MBX_BODY_GROUND)) out.insert(b.id);
     return out;
 }
 
@@ -147,7 +147,8 @@ TEST_CASE("real files: ergoCub, 67 parts, 57 revolutes, 8 exporter statuses, 66 
     const std::string data = atest::pmxml_data_dir();
     if (data.empty()) return;
     FileAdapterOptions options;
-    options.mesh_dirs.push_back(data + "/ergocub/meshes/simmechanics");
+    // No mesh directory given: the meshes sit in meshes/simmechanics/ below
+    // the XML, which the adapter searches after the XML's own directory.
     const auto adapter = FileAdapter::open(data + "/ergocub/SIM_ERGOCUB_1-0.xml", options);
     const mbx_memory::Assembly& a = adapter->assembly();
     CHECK(a.name == "SIM_ERGOCUB_1-0_ASM");
@@ -160,7 +161,8 @@ TEST_CASE("real files: ergoCub, 67 parts, 57 revolutes, 8 exporter statuses, 66 
     atest::Translation t(adapter->table(), MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES, 0);
     REQUIRE(t.status() == MBX_OK);
     const mbx_mechanism_summary s = t.summary();
-    CHECK(s.part_count == 68);
+    CHECK(s.part_count == 68);      // the 67 <Body> elements and RootGround
+    CHECK(s.cad_part_count == 67);  // RootGround is the world's datum, not a part
     CHECK(s.revolute_count == 57);
     CHECK(s.prismatic_count == 0);
     CHECK(s.joint_count == 57);
@@ -277,6 +279,7 @@ TEST_CASE("real files: legs 2014 translates") {
     REQUIRE(t.status() == MBX_OK);
     const mbx_mechanism_summary s = t.summary();
     CHECK(s.part_count == 14 + 1);
+    CHECK(s.cad_part_count == 14);
     CHECK(s.revolute_count == 12);
     CHECK(s.loop_count == 0);
     CHECK(s.error_count == 0);

@@ -166,7 +166,8 @@ typedef struct mbx_pose {
 typedef enum mbx_body_flags {
     MBX_BODY_GROUND = 1u << 0,   /* fixed to the world */
     MBX_BODY_HELPER = 1u << 1    /* massless CAD helper (e.g. "RootPart"):
-                                    never a dynamic body of its own */
+                                    never a dynamic body of its own; with
+                                    GROUND: a world datum, not a CAD part */
 } mbx_body_flags;
 
 /* One CAD part. Pose is in world coordinates at the assembly configuration.
@@ -385,6 +386,10 @@ typedef struct mbx_mechanism_summary {
     uint32_t floating_body_count; /* tree roots not attached to ground (6 DoF each) */
     uint32_t warning_count;
     uint32_t error_count;
+    /* --- ABI 3 --- */
+    /* part_count less world datums: bodies flagged both GROUND and HELPER
+     * (e.g. PMXML's RootGround) that stand for the world, not a CAD part. */
+    uint32_t cad_part_count;
 } mbx_mechanism_summary;
 
 MBX_API mbx_status mbx_mechanism_get_summary(const mbx_mechanism *mechanism, mbx_mechanism_summary *out);

@@ -22,6 +22,8 @@ struct Part {
 
     bool is_ground() const { return flags & MBX_BODY_GROUND; }
     bool is_helper() const { return flags & MBX_BODY_HELPER; }
+    // A datum standing for the world (PMXML's RootGround), not a CAD part.
+    bool is_world_datum() const { return is_ground() && is_helper(); }
 };
 
 struct Frame {
@@ -61,6 +63,12 @@ struct Assembly {
     std::vector<Frame> frames;
     std::vector<Constraint> constraints;
     double size = 1.0;  // bounding-box diagonal of part and frame origins, m (>0)
+
+    size_t cad_part_count() const {
+        size_t n = 0;
+        for (const Part& p : parts) n += !p.is_world_datum();
+        return n;
+    }
 };
 
 }  // namespace mbx

@@ -33,6 +33,7 @@ MBX_API mbx_status mbx_mechanism_get_summary(const mbx_mechanism* mechanism, mbx
     mbx_mechanism_summary s{};
     s.struct_size = sizeof s;
     s.part_count = uint32_t(m.assembly.parts.size());
+    s.cad_part_count = uint32_t(m.assembly.cad_part_count());
     for (const RigidBody& b : m.bodies) {
         s.rigid_body_count += b.kind == MBX_RIGID_BODY_DYNAMIC;
         s.joint_node_count += b.kind == MBX_RIGID_BODY_JOINT_NODE;

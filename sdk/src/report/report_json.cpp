@@ -53,6 +53,7 @@ void write_int_array(JsonWriter& w, const char* name, const std::vector<int>& v)
 void write_summary(JsonWriter& w, const Mechanism& m, const Counts& c) {
     w.key("summary").begin_object();
     w.member("parts", m.assembly.parts.size());
+    w.member("cad_parts", m.assembly.cad_part_count());
     w.member("rigid_bodies", c.dynamic_bodies);
     w.member("joint_nodes", c.joint_nodes);
     w.key("joints").begin_object();

@@ -116,7 +116,11 @@ void write_header(Text& t, const Mechanism& m, const Counts& c) {
     t.end_line();
     t.blank();
     t.raw("Summary").end_line();
-    t.raw("  ").count(m.assembly.parts.size(), "part", "parts").raw(", ");
+    const std::size_t cad_parts = m.assembly.cad_part_count();
+    t.raw("  ").count(cad_parts, "part", "parts");
+    if (cad_parts != m.assembly.parts.size())
+        t.raw(" (+").count(m.assembly.parts.size() - cad_parts, "world datum", "world datums").raw(")");
+    t.raw(", ");
     t.count(c.dynamic_bodies, "rigid body", "rigid bodies").raw(" + ground, ");
     t.count(c.joint_nodes, "joint node", "joint nodes").end_line();
     t.raw("  ").count(m.joints.size(), "joint", "joints").raw(": revolute ").num(static_cast<long long>(c.revolute));
