@@ -24,6 +24,7 @@
 #include "file_adapter.h"
 #include "generate_pmxml.h"
 #include "mbx/mbx.h"
+#include "peak_memory.h"
 
 namespace {
 
@@ -31,19 +32,8 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-long status_kb(const char* key) {
-    std::ifstream in("/proc/self/status");
-    std::string line;
-    const size_t n = std::strlen(key);
-    while (std::getline(in, line))
-        if (line.compare(0, n, key) == 0) return std::atol(line.c_str() + n + 1);
-    return -1;
-}
-
-void reset_peak() {
-    std::ofstream clear("/proc/self/clear_refs");
-    clear << "5";
-}
+using mbx_bench::reset_peak;
+using mbx_bench::status_kb;
 
 // What one child reports.
 struct Figures {

@@ -18,24 +18,13 @@
 #include <vector>
 
 #include "mbx/mbx.h"
+#include "peak_memory.h"
 #include "stub_assembly.h"
 
 namespace {
 
-long status_kb(const char* key) {
-    std::ifstream in("/proc/self/status");
-    std::string line;
-    const size_t n = std::strlen(key);
-    while (std::getline(in, line))
-        if (line.compare(0, n, key) == 0) return std::atol(line.c_str() + n + 1);
-    return -1;
-}
-
-// Resets the kernel's high-water mark so VmHWM measures only what follows.
-void reset_peak() {
-    std::ofstream clear("/proc/self/clear_refs");
-    clear << "5";
-}
+using mbx_bench::reset_peak;
+using mbx_bench::status_kb;
 
 struct Result {
     double seconds_per_body;

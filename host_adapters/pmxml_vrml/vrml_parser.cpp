@@ -426,7 +426,8 @@ private:
 
     // "eventIn|eventOut|field|exposedField type name [value]" of a PROTO
     // interface or a Script node; `in_node` allows "IS name" instead of a value.
-    MBX_VRML_COLD void parse_declaration(InterfaceField& d, size_t depth, bool in_node) {
+    // "field SFString name": the kind, type and name of an interface entry.
+    MBX_VRML_COLD void parse_declaration_head(InterfaceField& d) {
         const Token& t = peek();
         d.line = t.line;
         if (t.kind != Tok::identifier) fail_found("eventIn, eventOut, field or exposedField", t);
@@ -443,6 +444,10 @@ private:
         lex_.advance();
         d.type = expect_identifier("a field type");
         d.name = expect_identifier("a field name");
+    }
+
+    MBX_VRML_COLD void parse_declaration(InterfaceField& d, size_t depth, bool in_node) {
+        parse_declaration_head(d);
         const bool has_value = d.kind == InterfaceField::Kind::field || d.kind == InterfaceField::Kind::exposed_field;
         if (in_node && peek_word("IS")) {
             d.default_value = parse_value(depth);
@@ -506,22 +511,7 @@ private:
             if (t.kind == Tok::eof)
                 fail(t.line,
                      {"unexpected end of file in the interface of EXTERNPROTO '", p.name, "' (line ", line, ")"});
-            InterfaceField& d = p.interface.emplace_back();
-            d.line = t.line;
-            if (t.kind != Tok::identifier) fail_found("eventIn, eventOut, field or exposedField", t);
-            if (t.text == "eventIn")
-                d.kind = InterfaceField::Kind::event_in;
-            else if (t.text == "eventOut")
-                d.kind = InterfaceField::Kind::event_out;
-            else if (t.text == "field")
-                d.kind = InterfaceField::Kind::field;
-            else if (t.text == "exposedField")
-                d.kind = InterfaceField::Kind::exposed_field;
-            else
-                fail_found("eventIn, eventOut, field or exposedField", t);
-            lex_.advance();
-            d.type = expect_identifier("a field type");
-            d.name = expect_identifier("a field name");
+            parse_declaration_head(p.interface.emplace_back());
         }
         lex_.advance();
         index_interface(p);
