@@ -13,26 +13,11 @@
 
 #include <doctest/doctest.h>
 
+#include "../common/temp_dir.h"
+
 namespace atest {
 
-struct TempDir {
-    std::filesystem::path path;
-
-    explicit TempDir(const std::string& tag = "mbx_adapters") {
-        static std::atomic<int> serial{0};
-        path = std::filesystem::temp_directory_path() /
-               (tag + "_" + std::to_string(::getpid()) + "_" + std::to_string(serial++));
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        std::filesystem::remove_all(path, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
+using mbx_test::TempDir;
 
 inline void write_file(const std::string& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary);

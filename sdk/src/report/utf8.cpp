@@ -46,15 +46,7 @@ void append_printable_utf8(std::string& out, std::string_view s) {
             ++i;
             continue;
         }
-        std::size_t bad = 0;
-        const std::size_t n = utf8_sequence_length(s, i, &bad);
-        if (n) {
-            out.append(s.data() + i, n);
-            i += n;
-        } else {
-            append_replacement_character(out);
-            i += bad;
-        }
+        i += append_utf8_or_replacement(out, s, i);
     }
 }
 

@@ -16,6 +16,19 @@ std::size_t utf8_sequence_length(std::string_view s, std::size_t i, std::size_t*
 // Appends the three bytes of U+FFFD.
 inline void append_replacement_character(std::string& out) { out.append("\xEF\xBF\xBD", 3); }
 
+// Appends the sequence at s[i] if it is well-formed, else one U+FFFD for its
+// ill-formed subpart; returns how many bytes of `s` were consumed (>= 1).
+inline std::size_t append_utf8_or_replacement(std::string& out, std::string_view s, std::size_t i) {
+    std::size_t bad = 0;
+    const std::size_t n = utf8_sequence_length(s, i, &bad);
+    if (n) {
+        out.append(s.data() + i, n);
+        return n;
+    }
+    append_replacement_character(out);
+    return bad;
+}
+
 // Appends `s` as valid UTF-8 with control characters turned into spaces, so
 // a name can neither break a line of a plain-text report nor its encoding.
 void append_printable_utf8(std::string& out, std::string_view s);
