@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 3u
+#define MBX_ABI_VERSION 4u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -477,7 +477,11 @@ typedef enum mbx_finding_code {
     MBX_FINDING_LIMITS_INVERTED = 17,
     MBX_FINDING_HOST_DIAGNOSTIC = 18, /* code_name carries the host's code */
     MBX_FINDING_MASS_MISMATCH = 19,   /* CAD centre of mass far from the mesh centroid */
-    MBX_FINDING_SHAPE_NOT_CLOSED = 20 /* mesh cannot be checked: not a closed surface */
+    MBX_FINDING_SHAPE_NOT_CLOSED = 20, /* mesh cannot be checked: not a closed surface */
+    /* ABI 4: notes from mbx_mechanism_export */
+    MBX_FINDING_EXPORT_LOOPS_AS_TREE = 21,    /* target has no loops: spanning tree + cut-joint sidecar */
+    MBX_FINDING_EXPORT_APPROXIMATION = 22,    /* target cannot express something exactly; says what changed */
+    MBX_FINDING_EXPORT_MESH_MISSING = 23      /* a body's geometry could not be loaded; exported without it */
 } mbx_finding_code;
 
 typedef struct mbx_finding {
@@ -525,6 +529,42 @@ MBX_API mbx_status mbx_mechanism_write_report(mbx_context *context, const mbx_me
                                               const char *directory);
 
 /* ------------------------------------------------------------------------ */
+/* Export (ABI 4)                                                            */
+/* ------------------------------------------------------------------------ */
+typedef enum mbx_export_format {
+    MBX_EXPORT_MODELICA = 1u << 0, /* modelica/<Name>/: MSL 4.0 MultiBody package */
+    MBX_EXPORT_MJCF = 1u << 1,     /* mjcf/<name>.xml: MuJoCo, loops closed by equality constraints */
+    MBX_EXPORT_URDF = 1u << 2,     /* urdf/<name>.urdf: spanning tree (+ cut_joints.json with loops) */
+    MBX_EXPORT_MESHES = 1u << 3,   /* meshes/<body>.<ext> and scene.glb */
+    MBX_EXPORT_ALL = 0xFu
+} mbx_export_format;
+
+typedef enum mbx_mesh_format {
+    MBX_MESH_STL = 0, /* binary STL */
+    MBX_MESH_OBJ = 1,
+    MBX_MESH_GLTF = 2 /* glTF 2.0, buffers embedded */
+} mbx_mesh_format;
+
+typedef struct mbx_export_options {
+    uint32_t struct_size;
+    uint32_t formats;            /* mbx_export_format bits; 0 = all */
+    mbx_mesh_format mesh_format; /* for meshes/; MJCF and URDF use STL unless OBJ is chosen */
+    const char *model_name;      /* NULL or "": "model"; sanitized per target */
+    double stop_time;            /* Modelica experiment StopTime, s; <= 0: 10 */
+} mbx_export_options;
+
+/* Exports the mechanism below `directory` (created if missing). Every file is
+ * written to a temporary and all are renamed together at the end, so a
+ * failure leaves the directory as it was. Re-exporting the same mechanism
+ * gives byte-identical files; the Modelica user model (modelica/<Name>/
+ * UserModel.mo) is written only if absent, so the user's edits survive.
+ * What a target cannot express is added to the mechanism's findings
+ * (MBX_FINDING_EXPORT_*) and so appears in a report written afterwards.
+ * Geometry is fetched from the host if it has not been released. */
+MBX_API mbx_status mbx_mechanism_export(mbx_context *context, mbx_mechanism *mechanism,
+                                        const mbx_export_options *options, const char *directory);
+
+/* ------------------------------------------------------------------------ */
 /* Plugin entry: one exported function returns the whole API as a table, so a */
 /* host can dlopen() the plugin and dlsym() a single name.                    */
 /* ------------------------------------------------------------------------ */
@@ -555,6 +595,8 @@ typedef struct mbx_api {
     mbx_status (*mechanism_write_report)(mbx_context *, const mbx_mechanism *, const char *);
     /* --- version 2 --- */
     uint32_t (*abi_version_fn)(void);
+    /* --- version 4 --- */
+    mbx_status (*mechanism_export)(mbx_context *, mbx_mechanism *, const mbx_export_options *, const char *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

@@ -28,6 +28,7 @@ const mbx_api kApi = {
     mbx_mechanism_get_shape_stats,
     mbx_mechanism_write_report,
     mbx_abi_version,
+    mbx_mechanism_export,
 };
 
 }  // namespace

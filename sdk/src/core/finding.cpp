@@ -24,6 +24,9 @@ const char* finding_code_name(mbx_finding_code code) {
         case MBX_FINDING_HOST_DIAGNOSTIC: return "host_diagnostic";
         case MBX_FINDING_MASS_MISMATCH: return "mass_mismatch";
         case MBX_FINDING_SHAPE_NOT_CLOSED: return "shape_not_closed";
+        case MBX_FINDING_EXPORT_LOOPS_AS_TREE: return "export_loops_as_tree";
+        case MBX_FINDING_EXPORT_APPROXIMATION: return "export_approximation";
+        case MBX_FINDING_EXPORT_MESH_MISSING: return "export_mesh_missing";
     }
     return "unknown";
 }

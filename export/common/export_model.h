@@ -1,0 +1,75 @@
+// What every exporter reads: the mechanism, one joint placement per joint (so
+// a coordinate means the same in every format), the tree in parent-first
+// order, the bodies' meshes (fetched lazily, once) and their file stems. The
+// exporters return files as data; export/export_files.cpp writes them.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "assembly/shape_loader.h"
+#include "kinematics/placement.h"
+#include "translator/mechanism.h"
+
+namespace mbx {
+
+struct ExportSettings {
+    std::string model_name = "model";  // already a usable file stem; exporters sanitize further
+    mbx_mesh_format mesh_format = MBX_MESH_STL;
+    double stop_time = 10;  // Modelica experiment
+};
+
+// One output file, path relative to the output directory with '/' separators.
+struct OutputFile {
+    std::string path;
+    std::string contents;
+    bool keep_existing = false;  // user-owned: written only when absent (Modelica's user model)
+};
+using OutputFiles = std::vector<OutputFile>;
+
+// Meshes of rigid body `body` in its frame, metres. May throw mbx::Error.
+using BodyShapes = std::function<const std::vector<Mesh>&(int body)>;
+
+class ExportModel {
+public:
+    // `shapes` may be empty (no geometry available).
+    ExportModel(const Mechanism& m, BodyShapes shapes, ExportSettings settings);
+
+    const Mechanism& mechanism() const { return m_; }
+    const ExportSettings& settings() const { return settings_; }
+    const TreeIndex& tree() const { return tree_; }
+    const JointPlacement& placement(int joint) const { return placements_[size_t(joint)]; }
+
+    // Meshes of `body` (empty when there is no geometry or it failed to load;
+    // a failure becomes a note once).
+    const std::vector<Mesh>& shapes(int body);
+    // File stem of body's mesh, unique over the model ("" when the body has no
+    // triangles). Stems are assigned in body order when first asked.
+    const std::string& mesh_stem(int body);
+    bool has_mesh(int body) { return !mesh_stem(body).empty(); }
+    // Path of body's mesh file relative to the output directory, e.g. "meshes/link1.stl".
+    std::string mesh_path(int body, mbx_mesh_format format);
+
+    // Export findings (warnings about what a format cannot express). Identical
+    // notes are kept once.
+    void note(mbx_severity severity, mbx_finding_code code, Subject subject, std::string message);
+    const Findings& notes() const { return notes_; }
+
+private:
+    void assign_stems();
+
+    const Mechanism& m_;
+    BodyShapes fetch_;
+    ExportSettings settings_;
+    TreeIndex tree_;
+    std::vector<JointPlacement> placements_;
+    std::vector<char> loaded_;
+    std::vector<std::vector<Mesh>> cache_;
+    std::vector<std::string> stems_;
+    bool stems_assigned_ = false;
+    Findings notes_;
+};
+
+const char* mesh_extension(mbx_mesh_format format);  // "stl", "obj", "gltf"
+
+}  // namespace mbx

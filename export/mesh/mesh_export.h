@@ -1,0 +1,22 @@
+// Mesh files through assimp: one per rigid body (its parts' meshes combined,
+// body frame, metres) and a whole-assembly glTF scene at the CAD pose.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "common/export_model.h"
+
+namespace mbx {
+
+// The bytes of one mesh file holding `meshes` (body frame, metres). Formats
+// that need companion files (OBJ's .mtl, glTF's .bin) are avoided: OBJ is
+// written without materials and glTF with the buffer embedded.
+std::string encode_mesh(const std::vector<Mesh>& meshes, const std::string& name, mbx_mesh_format format);
+
+// Appends meshes/<stem>.<ext> for every body that has geometry.
+void export_body_meshes(ExportModel& model, mbx_mesh_format format, OutputFiles& out);
+
+// Appends scene.glb: every body's mesh as a node at its world pose.
+void export_scene(ExportModel& model, OutputFiles& out);
+
+}  // namespace mbx
