@@ -19,6 +19,7 @@ namespace {
 const char* kTranslateUsage =
     "usage: mbx translate <input> -o <dir> [--shapes <file.wrl>] [--mesh-dir <dir>]... [--no-mass-check]\n"
     "                     [--strict] [--progress] [--length-tolerance <m>]\n"
+    "                     [--format <list>] [--mesh-format stl|obj|gltf] [--name <model>] [--stop-time <s>]\n"
     "\n"
     "  <input>     a SimMechanics first-generation XML export (*.xml), or a built-in assembly ('mbx list')\n"
     "  -o <dir>    output directory (created if missing)\n"
@@ -31,6 +32,11 @@ const char* kTranslateUsage =
     "  --strict    exit with code 3 when the report holds errors\n"
     "  --progress  print translation stages to stderr\n"
     "  --length-tolerance <m>  distance under which joint frames coincide (default: automatic)\n"
+    "  --format <list>  comma-separated exports: modelica, mjcf, urdf, meshes, all (default) or none\n"
+    "              (modelica/<Name>/, mjcf/<name>.xml, urdf/<name>.urdf, meshes/ and scene.glb)\n"
+    "  --mesh-format stl|obj|gltf  format of meshes/ (default stl; MJCF and URDF use STL unless obj)\n"
+    "  --name <model>  model name in the exports (default: the input's file name or built-in name)\n"
+    "  --stop-time <s>  Modelica experiment stop time (default 10)\n"
     "\n"
     "An XML or VRML file that cannot be read is reported as 'mbx: <file>:<line>: <message>' (exit code 1);\n"
     "nothing is written then. Missing mesh files and unmatched shapes are findings in the report.\n";
@@ -66,6 +72,34 @@ bool is_xml_path(const std::string& path) {
     return ext == ".xml";
 }
 
+// "modelica,mjcf" -> bits; false on an unknown name.
+bool parse_formats(const std::string& list, uint32_t& bits) {
+    bits = 0;
+    size_t start = 0;
+    while (start <= list.size()) {
+        const size_t comma = list.find(',', start);
+        const std::string name = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (name == "modelica") bits |= MBX_EXPORT_MODELICA;
+        else if (name == "mjcf") bits |= MBX_EXPORT_MJCF;
+        else if (name == "urdf") bits |= MBX_EXPORT_URDF;
+        else if (name == "meshes") bits |= MBX_EXPORT_MESHES;
+        else if (name == "all") bits |= MBX_EXPORT_ALL;
+        else if (name != "none") return false;
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return true;
+}
+
+// File name without directory and extension ("a/b/Robot.xml" -> "Robot").
+std::string stem_of(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    const size_t dot = name.find_last_of('.');
+    if (dot != std::string::npos && dot > 0) name.resize(dot);
+    return name;
+}
+
 }  // namespace
 
 int run_list(const std::vector<std::string>& args) {
@@ -82,6 +116,10 @@ int run_translate(const std::vector<std::string>& args) {
     mbx_files::FileAdapterOptions file_options;
     bool strict = false, progress = false, mass_check = true;
     double length_tolerance = 0;
+    uint32_t formats = MBX_EXPORT_ALL;
+    mbx_export_options export_options{};
+    export_options.struct_size = sizeof export_options;
+    std::string model_name;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         if (a == "-h" || a == "--help") {
@@ -104,6 +142,30 @@ int run_translate(const std::vector<std::string>& args) {
             length_tolerance = std::strtod(args[++i].c_str(), &end);
             if (!end || *end || !(length_tolerance > 0)) {
                 std::fprintf(stderr, "mbx translate: --length-tolerance needs a positive number of metres\n");
+                return 2;
+            }
+        } else if (a == "--format" && i + 1 < args.size()) {
+            if (!parse_formats(args[++i], formats)) {
+                std::fprintf(stderr, "mbx translate: --format takes modelica, mjcf, urdf, meshes, all or none, "
+                                     "comma-separated (got '%s')\n", args[i].c_str());
+                return 2;
+            }
+        } else if (a == "--mesh-format" && i + 1 < args.size()) {
+            const std::string f = args[++i];
+            if (f == "stl") export_options.mesh_format = MBX_MESH_STL;
+            else if (f == "obj") export_options.mesh_format = MBX_MESH_OBJ;
+            else if (f == "gltf") export_options.mesh_format = MBX_MESH_GLTF;
+            else {
+                std::fprintf(stderr, "mbx translate: --mesh-format takes stl, obj or gltf (got '%s')\n", f.c_str());
+                return 2;
+            }
+        } else if (a == "--name" && i + 1 < args.size()) {
+            model_name = args[++i];
+        } else if (a == "--stop-time" && i + 1 < args.size()) {
+            char* end = nullptr;
+            export_options.stop_time = std::strtod(args[++i].c_str(), &end);
+            if (!end || *end || !(export_options.stop_time > 0)) {
+                std::fprintf(stderr, "mbx translate: --stop-time needs a positive number of seconds\n");
                 return 2;
             }
         } else if (!a.empty() && a[0] == '-') {
@@ -170,6 +232,14 @@ int run_translate(const std::vector<std::string>& args) {
     if (file_input && mass_check) options.flags = MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
     mbx_status status = mbx_translate(c.ctx, table, &options, &c.mech);
     if (status != MBX_OK) return fail(c, status, "translation");
+    // Export before the report, so what a format could not express is in it.
+    if (formats) {
+        if (model_name.empty()) model_name = file_input ? stem_of(input) : stem_of(input.substr(input.rfind(':') + 1));
+        export_options.formats = formats;
+        export_options.model_name = model_name.c_str();
+        status = mbx_mechanism_export(c.ctx, c.mech, &export_options, out_dir.c_str());
+        if (status != MBX_OK) return fail(c, status, "export");
+    }
     status = mbx_mechanism_write_report(c.ctx, c.mech, out_dir.c_str());
     if (status != MBX_OK) return fail(c, status, "writing the report");
     // Mesh files that broke only when loaded came after the report's host
@@ -186,6 +256,10 @@ int run_translate(const std::vector<std::string>& args) {
                 input.c_str(), s.cad_part_count, s.rigid_body_count, s.joint_count, s.cut_joint_count, s.loop_count,
                 s.planar_loop_count, s.dof, s.gruebler_dof, s.warning_count, s.error_count);
     std::printf("report: %s/report.json\nreport: %s/report.txt\n", out_dir.c_str(), out_dir.c_str());
+    if (formats & MBX_EXPORT_MODELICA) std::printf("modelica: %s/modelica/\n", out_dir.c_str());
+    if (formats & MBX_EXPORT_MJCF) std::printf("mjcf: %s/mjcf/\n", out_dir.c_str());
+    if (formats & MBX_EXPORT_URDF) std::printf("urdf: %s/urdf/\n", out_dir.c_str());
+    if (formats & MBX_EXPORT_MESHES) std::printf("meshes: %s/meshes/ and %s/scene.glb\n", out_dir.c_str(), out_dir.c_str());
     return strict && s.error_count > 0 ? 3 : 0;
 }
 
