@@ -83,3 +83,36 @@ TEST_CASE("cli: usage mentions the file options; they need an XML input") {
     const Run builtin = run_cli(dir, "translate fourbar -o '" + dir.file("out") + "'");
     CHECK(builtin.code == 0);
 }
+
+TEST_CASE("cli: --format picks the exports, default all, none writes only the report") {
+    atest::TempDir dir;
+    atest::write_file(dir.file("tiny.xml"), atest::tiny_pmxml());
+    namespace fs = std::filesystem;
+    const std::string xml = "'" + dir.file("tiny.xml") + "'";
+
+    const Run all = run_cli(dir, "translate " + xml + " -o '" + dir.file("all") + "'");
+    REQUIRE(all.code == 0);
+    CHECK(fs::exists(dir.file("all/modelica/Tiny/package.mo")));
+    CHECK(fs::exists(dir.file("all/mjcf/tiny.xml")));
+    CHECK(fs::exists(dir.file("all/urdf/tiny.urdf")));
+    CHECK(all.out.find("mjcf: ") != std::string::npos);
+
+    const Run some = run_cli(dir, "translate " + xml + " --format mjcf,urdf --name Arm -o '" + dir.file("some") + "'");
+    REQUIRE(some.code == 0);
+    CHECK(fs::exists(dir.file("some/mjcf/Arm.xml")));
+    CHECK(fs::exists(dir.file("some/urdf/Arm.urdf")));
+    CHECK_FALSE(fs::exists(dir.file("some/modelica")));
+
+    const Run none = run_cli(dir, "translate " + xml + " --format none -o '" + dir.file("none") + "'");
+    REQUIRE(none.code == 0);
+    size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(dir.file("none"))) entries += e.path().filename() != "";
+    CHECK(entries == 2);  // report.json, report.txt
+
+    const Run bad = run_cli(dir, "translate " + xml + " --format step -o '" + dir.file("bad") + "'");
+    CHECK(bad.code == 2);
+    CHECK(bad.err.find("--format") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir.file("bad")));
+    const Run bad_mesh = run_cli(dir, "translate " + xml + " --mesh-format ply -o '" + dir.file("bad") + "'");
+    CHECK(bad_mesh.code == 2);
+}

@@ -1,0 +1,40 @@
+// Bridges mbx meshes to assimp: a body's parts combined into one aiMesh
+// (validated, so NaN or a bad index never reaches a file), scenes built from
+// those meshes, and the bytes assimp's exporters make of a scene.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <assimp/scene.h>
+
+#include "assembly/shape_loader.h"
+#include "core/finding.h"
+#include "core/math.h"
+
+namespace mbx {
+
+// All triangles of `parts` as one triangle mesh named `name`, vertices
+// converted to float once. Throws Error(MBX_ERROR_INVALID_INPUT, subject)
+// naming `what` (e.g. "rigid body 'arm'") when a vertex is not finite (or
+// overflows float), an index is out of range, or nothing is left to write.
+std::unique_ptr<aiMesh> combine_parts(const std::vector<Mesh>& parts, const std::string& name, const Subject& subject,
+                                      const std::string& what);
+
+// An empty scene with one neutral grey material (exporters index it) and a
+// root node named `root_name`.
+std::unique_ptr<aiScene> new_scene(const std::string& root_name);
+
+// Moves `meshes` into `scene` (replacing its mesh list).
+void set_meshes(aiScene& scene, std::vector<std::unique_ptr<aiMesh>> meshes);
+
+// Adds a node below the root that instances mesh `mesh` at `pose` (composed
+// from the root; a pose close to identity gets a helper parent node).
+void add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose);
+
+// The main (first) blob assimp's exporter `format_id` makes of `scene`.
+// Throws Error(MBX_ERROR_INTERNAL) when assimp fails or yields companion
+// files (an exporter choice that would leave the main file dangling).
+std::string export_blob(const aiScene& scene, const char* format_id, const std::string& what);
+
+}  // namespace mbx
