@@ -7,7 +7,7 @@ namespace mbx {
 const char* mesh_extension(mbx_mesh_format format) {
     switch (format) {
     case MBX_MESH_OBJ: return "obj";
-    case MBX_MESH_GLTF: return "gltf";
+    case MBX_MESH_GLTF: return "glb";  // assimp 5.2 embeds the buffer only in binary glTF
     case MBX_MESH_STL: break;
     }
     return "stl";

@@ -70,6 +70,6 @@ private:
     Findings notes_;
 };
 
-const char* mesh_extension(mbx_mesh_format format);  // "stl", "obj", "gltf"
+const char* mesh_extension(mbx_mesh_format format);  // "stl", "obj", "glb"
 
 }  // namespace mbx

@@ -10,7 +10,7 @@ namespace mbx {
 
 // The bytes of one mesh file holding `meshes` (body frame, metres). Formats
 // that need companion files (OBJ's .mtl, glTF's .bin) are avoided: OBJ is
-// written without materials and glTF with the buffer embedded.
+// written without materials and glTF as one binary .glb file.
 std::string encode_mesh(const std::vector<Mesh>& meshes, const std::string& name, mbx_mesh_format format);
 
 // Appends meshes/<stem>.<ext> for every body that has geometry.

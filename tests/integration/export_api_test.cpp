@@ -169,3 +169,23 @@ TEST_CASE("export api: what a format cannot express joins the findings once, how
     CHECK(count_code(r.get(), MBX_FINDING_EXPORT_LOOPS_AS_TREE) == 1);
     CHECK(std::string(api().finding_code_name(MBX_FINDING_EXPORT_LOOPS_AS_TREE)) == "export_loops_as_tree");
 }
+
+TEST_CASE("export api: mesh_format picks the meshes/ files; MJCF and URDF still get STL beside glTF") {
+    const Run r = translate_builtin("fourbar");
+    REQUIRE(r.status == MBX_OK);
+    for (const auto& [format, ext] : std::vector<std::pair<mbx_mesh_format, std::string>>{
+             {MBX_MESH_STL, ".stl"}, {MBX_MESH_OBJ, ".obj"}, {MBX_MESH_GLTF, ".glb"}}) {
+        CAPTURE(ext);
+        TempDir only_meshes, with_models;
+        REQUIRE(export_run(r, only_meshes.path, MBX_EXPORT_MESHES, format) == MBX_OK);
+        std::set<std::string> exts;
+        for (const auto& f : tree_of(only_meshes.path / "meshes")) exts.insert(fs::path(f).extension().string());
+        CHECK(exts == std::set<std::string>{ext});
+        REQUIRE(export_run(r, with_models.path, MBX_EXPORT_MESHES | MBX_EXPORT_MJCF, format) == MBX_OK);
+        exts.clear();
+        for (const auto& f : tree_of(with_models.path / "meshes")) exts.insert(fs::path(f).extension().string());
+        const std::set<std::string> expected =
+            format == MBX_MESH_GLTF ? std::set<std::string>{".glb", ".stl"} : std::set<std::string>{ext};
+        CHECK(exts == expected);
+    }
+}

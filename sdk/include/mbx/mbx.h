@@ -542,7 +542,7 @@ typedef enum mbx_export_format {
 typedef enum mbx_mesh_format {
     MBX_MESH_STL = 0, /* binary STL */
     MBX_MESH_OBJ = 1,
-    MBX_MESH_GLTF = 2 /* glTF 2.0, buffers embedded */
+    MBX_MESH_GLTF = 2 /* binary glTF 2.0 (.glb, one self-contained file) */
 } mbx_mesh_format;
 
 typedef struct mbx_export_options {
