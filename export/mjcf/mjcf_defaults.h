@@ -1,4 +1,4 @@
-// Simulation settings written into every MJCF model (docs/exporters_mjcf.md
+// Simulation settings written into every MJCF model (docs/exporters.md, MJCF
 // explains the choice). Tests derive their tolerances from these.
 #pragma once
 

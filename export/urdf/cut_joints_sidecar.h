@@ -1,7 +1,7 @@
 // urdf/<name>.cut_joints.json: the joints the URDF tree leaves out (one per
 // closed loop), with where each sits in both of its links, so a consumer can
 // add the loop-closure constraints URDF cannot state. Field by field in
-// docs/exporters_urdf.md.
+// docs/exporters.md, URDF.
 #pragma once
 #include <string>
 

@@ -267,5 +267,9 @@ TEST_CASE("MJCF: every mesh geom sits on its own body, is visual only and leaves
         }
         CHECK(model->nmesh == meshes);
         CHECK(meshes > 0);
+        // Geoms add no mass: each body weighs what mbx says.
+        for (size_t b = 1; b < m.bodies.size(); ++b)
+            if (m.bodies[b].kind == MBX_RIGID_BODY_DYNAMIC)
+                CHECK(model->body_mass[run.body_id(int(b))] == doctest::Approx(m.bodies[b].mass).epsilon(1e-12));
     }
 }

@@ -114,7 +114,7 @@ struct Result {
     urdf::ModelInterfaceSharedPtr urdf;
 };
 
-// Link frame convention (docs/exporters_urdf.md): the body's axes, at the
+// Link frame convention (docs/exporters.md, URDF): the body's axes, at the
 // body origin for roots and at the parent joint's point otherwise.
 inline Pose expected_link_in_body(const ExportModel& model, int b) {
     const RigidBody& body = model.mechanism().bodies[size_t(b)];
