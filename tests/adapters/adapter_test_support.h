@@ -14,6 +14,7 @@
 #include <doctest/doctest.h>
 
 #include "../common/temp_dir.h"
+#include "../common/file_text.h"
 
 namespace atest {
 
@@ -25,12 +26,7 @@ inline void write_file(const std::string& path, const std::string& text) {
     REQUIRE(out.good());
 }
 
-inline std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+inline std::string read_file(const std::string& path) { return mbx_test::read_file(path); }
 
 // 1-based line of the first occurrence of `needle`; fails the test if absent.
 inline int line_of(const std::string& text, const std::string& needle) {

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "export_fixture.h"
+#include "file_text.h"
 
 namespace fs = std::filesystem;
 
@@ -53,12 +54,7 @@ std::vector<Input> all_inputs() {
     return in;
 }
 
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbx_test::read_file;
 
 const mbx::OutputFile* with_suffix(const mbx::OutputFiles& files, const std::string& prefix, const std::string& suffix) {
     for (const auto& f : files)

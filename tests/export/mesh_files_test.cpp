@@ -11,19 +11,13 @@
 #include "export_fixture.h"
 #include "mesh/mesh_export.h"
 #include "mesh_readback.h"
+#include "file_text.h"
 
 using namespace mbx;
 using xmesh::Box;
 using xmesh::host_world_vertices;
 
 namespace {
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 size_t triangle_count(const std::vector<Mesh>& meshes) {
     size_t n = 0;
@@ -57,7 +51,7 @@ TEST_CASE("mesh files: one file per rigid body with geometry, holding its parts'
             ++expected_files;
             const std::string path = model.mesh_path(int(b), format);
             REQUIRE(xtest::find_file(files, path) != nullptr);
-            const std::string bytes = slurp(dir.file(path));
+            const std::string bytes = mbx_test::read_file(dir.file(path));
             REQUIRE(bytes == xtest::find_file(files, path)->contents);
             const xmesh::ReadBack r = xmesh::read_back(bytes, hint(format));
             const auto got = xmesh::triangles(r.scene);

@@ -11,6 +11,7 @@
 #include "builder.h"
 #include "modelica/modelica_text.h"
 #include "modelica_support.h"
+#include "file_text.h"
 
 using namespace mbx;
 namespace fs = std::filesystem;
@@ -18,13 +19,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kMB = "Modelica.Mechanics.MultiBody.";
-
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 bool has_note(const Findings& notes, mbx_finding_code code, const std::string& fragment) {
     for (const Finding& f : notes)
@@ -159,7 +153,7 @@ void check_golden(const std::string& file, const std::string& contents) {
     }
     REQUIRE_MESSAGE(fs::exists(path), "golden file " << path.string()
                                                      << " is missing; run the test with MBX_UPDATE_GOLDEN=1 to create it");
-    CHECK_MESSAGE(read_text(path) == contents,
+    CHECK_MESSAGE(mbx_test::read_file(path) == contents,
                   "Mechanics.mo differs from golden file " << path.string()
                                                            << ". If the change is intended, review it and rerun with "
                                                               "MBX_UPDATE_GOLDEN=1 to rewrite the golden file.");
@@ -372,13 +366,13 @@ TEST_CASE("modelica: re-export is byte-identical and keeps the user's UserModel.
     const fs::path mechanics = package / "Mechanics.mo";
     REQUIRE(fs::exists(user));
     REQUIRE(fs::exists(mechanics));
-    const std::string generated_user = read_text(user);
+    const std::string generated_user = mbx_test::read_file(user);
     const std::string edited_user = generated_user + "// my edit\n";
     std::ofstream(user, std::ios::binary) << edited_user;
     std::ofstream(mechanics, std::ios::binary) << "tampered";
     xtest::export_to(*t, dir, MBX_EXPORT_MODELICA, s);
-    CHECK(read_text(user) == edited_user);
-    CHECK(read_text(mechanics) == xtest::find_file(first, "modelica/Six_axis_arm/Mechanics.mo")->contents);
+    CHECK(mbx_test::read_file(user) == edited_user);
+    CHECK(mbx_test::read_file(mechanics) == xtest::find_file(first, "modelica/Six_axis_arm/Mechanics.mo")->contents);
 }
 
 TEST_CASE("modelica: fourbar Mechanics.mo matches the reviewed golden file") {

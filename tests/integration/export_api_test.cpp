@@ -12,18 +12,14 @@
 
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+#include "../common/file_text.h"
 
 using namespace itest;
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbx_test::read_file;
 
 // Every regular file below `dir`, relative, sorted.
 std::vector<std::string> tree_of(const fs::path& dir) {

@@ -11,18 +11,14 @@
 #include "support/json_check.h"
 #include "support/temp_dir.h"
 #include "support/plugin_fixture.h"
+#include "../common/file_text.h"
 
 using namespace itest;
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbx_test::read_file;
 
 std::vector<std::string> entries(const fs::path& dir) {
     std::vector<std::string> names;

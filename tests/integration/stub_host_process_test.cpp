@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/temp_dir.h"
+#include "../common/file_text.h"
 
 namespace fs = std::filesystem;
 
@@ -31,13 +32,6 @@ std::string quoted(const std::string& s) {
     return q + "'";
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 Result run_stub_host(const itest::TempDir& scratch, const std::vector<std::string>& args) {
     std::string command = quoted(MBX_STUB_HOST_PATH) + " --plugin " + quoted(MBX_PLUGIN_PATH);
     for (const std::string& a : args) command += " " + quoted(a);
@@ -46,8 +40,8 @@ Result run_stub_host(const itest::TempDir& scratch, const std::vector<std::strin
     const int status = std::system(command.c_str());
     Result r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
+    r.out = mbx_test::read_file(out);
+    r.err = mbx_test::read_file(err);
     return r;
 }
 

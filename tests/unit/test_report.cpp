@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "report/report.h"
+#include "../common/file_text.h"
 
 using nlohmann::json;
 
@@ -163,11 +164,6 @@ std::vector<std::string> lines_of(const std::string& text) {
     std::istringstream in(text);
     for (std::string line; std::getline(in, line);) lines.push_back(line);
     return lines;
-}
-
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 }  // namespace
@@ -393,8 +389,8 @@ TEST_CASE("report: write_report writes both files into a new directory") {
     std::filesystem::remove_all(dir.parent_path().parent_path());
     const mbx::Mechanism m = four_part_mechanism();
     mbx::write_report(m, dir.string());
-    CHECK(slurp(dir / "report.json") == mbx::report_json(m));
-    CHECK(slurp(dir / "report.txt") == mbx::report_text(m));
+    CHECK(mbx_test::read_file(dir / "report.json") == mbx::report_json(m));
+    CHECK(mbx_test::read_file(dir / "report.txt") == mbx::report_text(m));
     std::size_t files = 0;
     for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
     CHECK(files == 2);

@@ -12,6 +12,7 @@
 
 #include "core/finding.h"
 #include "report/atomic_file.h"
+#include "../common/file_text.h"
 
 namespace fs = std::filesystem;
 
@@ -32,11 +33,6 @@ struct Scratch {
         fs::remove_all(dir, ec);
     }
 };
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 void spit(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
 
@@ -68,7 +64,7 @@ TEST_CASE("atomic: creates missing directories and writes the contents") {
     Scratch s("create");
     const fs::path target = s.dir / "a" / "b" / "file.txt";
     mbx::write_file_atomically(target.string(), std::string("hello\0world", 11));
-    CHECK(slurp(target) == std::string("hello\0world", 11));
+    CHECK(mbx_test::read_file(target) == std::string("hello\0world", 11));
     CHECK(temporaries_in(s.dir) == 0);
 }
 
@@ -77,9 +73,9 @@ TEST_CASE("atomic: an existing file is replaced entirely") {
     const fs::path target = s.dir / "report.json";
     spit(target, std::string(10000, 'o'));
     mbx::write_file_atomically(target.string(), "short");
-    CHECK(slurp(target) == "short");
+    CHECK(mbx_test::read_file(target) == "short");
     mbx::write_file_atomically(target.string(), "");
-    CHECK(slurp(target).empty());
+    CHECK(mbx_test::read_file(target).empty());
     CHECK(temporaries_in(s.dir) == 0);
 }
 
@@ -92,7 +88,7 @@ TEST_CASE("atomic: a parent that is a file fails with MBX_ERROR_IO and leaves no
     CAPTURE(message);
     CHECK(message.find("blocker") != std::string::npos);
     CHECK(message.find("Not a directory") != std::string::npos);
-    CHECK(slurp(s.dir / "blocker") == "I am a file");
+    CHECK(mbx_test::read_file(s.dir / "blocker") == "I am a file");
     CHECK(temporaries_in(s.dir) == 0);
 }
 
@@ -121,7 +117,7 @@ TEST_CASE("atomic: a read-only directory fails cleanly") {
     CAPTURE(message);
     CHECK(message.find("Permission denied") != std::string::npos);
     REQUIRE(::chmod(s.dir.c_str(), 0700) == 0);
-    CHECK(slurp(target) == "old");
+    CHECK(mbx_test::read_file(target) == "old");
     CHECK(temporaries_in(s.dir) == 0);
 }
 
@@ -132,8 +128,8 @@ TEST_CASE("atomic: write_files_atomically replaces a pair together") {
     spit(json, "old json");
     spit(text, "old text");
     mbx::write_files_atomically({{json, "new json"}, {text, "new text"}});
-    CHECK(slurp(json) == "new json");
-    CHECK(slurp(text) == "new text");
+    CHECK(mbx_test::read_file(json) == "new json");
+    CHECK(mbx_test::read_file(text) == "new text");
     CHECK(temporaries_in(s.dir) == 0);
 }
 
@@ -144,7 +140,7 @@ TEST_CASE("atomic: write_files_atomically keeps the old pair when the second fil
     spit(json, "old json");
     fs::create_directories(text);  // the second rename will fail with EISDIR
     expect_io_error([&] { mbx::write_files_atomically({{json, "new json"}, {text, "new text"}}); }, text);
-    CHECK(slurp(json) == "old json");
+    CHECK(mbx_test::read_file(json) == "old json");
     CHECK(fs::is_directory(text));
     CHECK(temporaries_in(s.dir) == 0);
 
@@ -162,7 +158,7 @@ TEST_CASE("atomic: write_files_atomically writes nothing when a temporary cannot
     const std::string text = (s.dir / "blocker" / "report.txt").string();
     spit(json, "old json");
     expect_io_error([&] { mbx::write_files_atomically({{json, "new json"}, {text, "new text"}}); }, text);
-    CHECK(slurp(json) == "old json");
+    CHECK(mbx_test::read_file(json) == "old json");
     CHECK(temporaries_in(s.dir) == 0);
 }
 
@@ -176,7 +172,7 @@ TEST_CASE("atomic: concurrent writers of one file never clash or leave debris") 
             for (int i = 0; i < 25; ++i) mbx::write_file_atomically(target, contents);
         });
     for (std::thread& th : threads) th.join();
-    const std::string result = slurp(target);
+    const std::string result = mbx_test::read_file(target);
     REQUIRE_FALSE(result.empty());
     CHECK(result == std::string(result.size(), result[0]));  // one writer's contents, whole
     CHECK(result.size() == 1000 + static_cast<std::size_t>(result[0] - 'a'));
