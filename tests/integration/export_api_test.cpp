@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -31,12 +32,13 @@ std::vector<std::string> tree_of(const fs::path& dir) {
     return out;
 }
 
-mbx_status export_run(const Run& r, const fs::path& dir, uint32_t formats, mbx_mesh_format mesh = MBX_MESH_STL,
+// `mesh` is an int, as a C host may store any value in the enum field.
+mbx_status export_run(const Run& r, const fs::path& dir, uint32_t formats, int mesh = MBX_MESH_STL,
                       const char* name = "fourbar") {
     mbx_export_options o{};
     o.struct_size = sizeof o;
     o.formats = formats;
-    o.mesh_format = mesh;
+    std::memcpy(&o.mesh_format, &mesh, sizeof mesh);
     o.model_name = name;
     return api().mechanism_export(r.context.get(), r.get(), &o, dir.string().c_str());
 }
@@ -125,7 +127,7 @@ TEST_CASE("export api: bad options and paths are refused with a message, and not
     TempDir dir;
     CHECK(export_run(r, dir.path, 1u << 9) == MBX_ERROR_INVALID_ARGUMENT);
     CHECK(std::string(api().context_last_error(r.context.get())).find("format") != std::string::npos);
-    CHECK(export_run(r, dir.path, MBX_EXPORT_MJCF, mbx_mesh_format(7)) == MBX_ERROR_INVALID_ARGUMENT);
+    CHECK(export_run(r, dir.path, MBX_EXPORT_MJCF, 7) == MBX_ERROR_INVALID_ARGUMENT);
     CHECK(std::string(api().context_last_error(r.context.get())).find("mesh_format") != std::string::npos);
     CHECK(tree_of(dir.path).empty());
     CHECK(api().mechanism_export(r.context.get(), r.get(), nullptr, "") == MBX_ERROR_INVALID_ARGUMENT);
@@ -147,7 +149,8 @@ TEST_CASE("export api: an older host's smaller options struct is read only as fa
     mbx_export_options o{};
     o.struct_size = offsetof(mbx_export_options, mesh_format);  // knows only `formats`
     o.formats = MBX_EXPORT_URDF;
-    o.mesh_format = mbx_mesh_format(99);  // beyond its size: must be ignored
+    const int beyond = 99;  // beyond its size: must be ignored
+    std::memcpy(&o.mesh_format, &beyond, sizeof beyond);
     REQUIRE(api().mechanism_export(r.context.get(), r.get(), &o, dir.path.string().c_str()) == MBX_OK);
     const auto files = tree_of(dir.path);
     CHECK(any_starts_with(files, "urdf/model"));  // default model name

@@ -1,5 +1,7 @@
 // mbx_mechanism_export: C options in, export/ modules run, notes appended to
 // the mechanism's findings.
+#include <cstring>
+
 #include "capi/guard.h"
 #include "export_files.h"
 
@@ -20,11 +22,14 @@ MBX_API mbx_status mbx_mechanism_export(mbx_context* context, mbx_mechanism* mec
         if (options) {
             if (MBX_FIELD_FITS(options, mbx_export_options, formats)) formats = options->formats;
             if (MBX_FIELD_FITS(options, mbx_export_options, mesh_format)) {
-                if (options->mesh_format != MBX_MESH_STL && options->mesh_format != MBX_MESH_OBJ &&
-                    options->mesh_format != MBX_MESH_GLTF)
-                    throw Error(MBX_ERROR_INVALID_ARGUMENT, {},
-                                "unknown mesh_format " + std::to_string(int(options->mesh_format)));
-                settings.mesh_format = options->mesh_format;
+                // A C host may store any int in the enum; reading it as
+                // the C++ enum would be undefined for values out of range.
+                int raw = 0;
+                static_assert(sizeof raw == sizeof options->mesh_format, "C enums are int-sized");
+                std::memcpy(&raw, &options->mesh_format, sizeof raw);
+                if (raw != MBX_MESH_STL && raw != MBX_MESH_OBJ && raw != MBX_MESH_GLTF)
+                    throw Error(MBX_ERROR_INVALID_ARGUMENT, {}, "unknown mesh_format " + std::to_string(raw));
+                settings.mesh_format = mbx_mesh_format(raw);
             }
             if (MBX_FIELD_FITS(options, mbx_export_options, model_name) && options->model_name &&
                 options->model_name[0])
