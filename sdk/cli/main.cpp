@@ -12,8 +12,9 @@ const char* kUsage =
     "usage: mbx <command> [options]\n"
     "\n"
     "commands:\n"
-    "  translate <input> -o <dir>   translate an assembly; writes <dir>/report.json and <dir>/report.txt\n"
+    "  translate <input> -o <dir>   translate an assembly; writes the report and the exports to <dir>\n"
     "  list                         list the built-in assemblies usable as <input>\n"
+    "  library <file.xml>...        check object library files and show derived drive quantities\n"
     "\n"
     "options:\n"
     "  -h, --help      this help (also: mbx <command> --help)\n"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
     }
     if (command == "translate") return mbx_cli::run_translate(rest);
     if (command == "list") return mbx_cli::run_list(rest);
+    if (command == "library") return mbx_cli::run_library(rest);
     std::fprintf(stderr, "mbx: unknown command '%s'\n\n%s", command.c_str(), kUsage);
     return 2;
 }

@@ -116,3 +116,18 @@ TEST_CASE("cli: --format picks the exports, default all, none writes only the re
     const Run bad_mesh = run_cli(dir, "translate " + xml + " --mesh-format ply -o '" + dir.file("bad") + "'");
     CHECK(bad_mesh.code == 2);
 }
+
+TEST_CASE("cli: mbx library shows derived motor constants, and names file and line of a bad entry") {
+    atest::TempDir dir;
+    const Run good = run_cli(dir, std::string("library '") + MBX_SAMPLES_DIR + "/library/mbx_object_library.xml'");
+    CHECK(good.code == 0);
+    CHECK(good.out.find("KRS-784ICS") != std::string::npos);
+    CHECK(good.out.find("k 0.008226 N m/A") != std::string::npos);  // (8 - 0.78 * 1.2) / (8200 rpm)
+    atest::write_file(dir.file("bad.xml"),
+                      "<object_library>\n<object_folder name=\"E\">\n<object_class name=\"C\">\n"
+                      "<parameter name=\"x\" unit=\"furlong\"/>\n</object_class>\n</object_folder>\n</object_library>\n");
+    const Run bad = run_cli(dir, "library '" + dir.file("bad.xml") + "'");
+    CHECK(bad.code == 1);
+    CHECK(bad.err.find(dir.file("bad.xml") + ":4: C: parameter 'x' has unknown unit 'furlong'") != std::string::npos);
+    CHECK(run_cli(dir, "library").code == 2);
+}
