@@ -1,8 +1,9 @@
 // A joint's motion target over time (the thesis's motion editing, after
-// section 2.8.2: a joint without one holds 0): tabulated points joined by straight lines, by rest-to-rest
-// quintic segments (position, velocity and acceleration continuous; the
-// joint stops at every point) or held as steps. Before the first point the
-// first value holds, after the last the last.
+// section 2.8.2; a joint without one holds 0): tabulated points joined by
+// straight lines, by rest-to-rest quintic segments (position, velocity and
+// acceleration continuous; the joint stops at every point) or held as
+// steps. Before the first point the first value holds, after the last the
+// last.
 #pragma once
 #include <string>
 #include <vector>
