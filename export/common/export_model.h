@@ -9,6 +9,7 @@
 
 #include "assembly/shape_loader.h"
 #include "kinematics/placement.h"
+#include "mechatronics/drive.h"
 #include "translator/mechanism.h"
 
 namespace mbx {
@@ -17,6 +18,9 @@ struct ExportSettings {
     std::string model_name = "model";  // already a usable file stem; exporters sanitize further
     mbx_mesh_format mesh_format = MBX_MESH_STL;
     double stop_time = 10;  // Modelica experiment
+    // Drives resolved against the mechanism (resolve_drives); empty: a passive
+    // mechanism. Every format writes the same drive quantities (Drive).
+    std::vector<Drive> drives;
 };
 
 // One output file, path relative to the output directory with '/' separators.
