@@ -19,6 +19,20 @@ ExportModel::ExportModel(const Mechanism& m, BodyShapes shapes, ExportSettings s
     for (size_t j = 0; j < m.joints.size(); ++j) placements_.push_back(place_joint(m, int(j)));
     loaded_.assign(m.bodies.size(), 0);
     cache_.resize(m.bodies.size());
+    drive_index_.assign(m.joints.size(), -1);
+    for (size_t d = 0; d < settings_.drives.size(); ++d) {
+        const int j = settings_.drives[d].joint;
+        if (j >= 0 && size_t(j) < m.joints.size()) drive_index_[size_t(j)] = int(d);
+    }
+}
+
+Subject ExportModel::joint_subject(int joint) const {
+    const Joint& j = m_.joints[size_t(joint)];
+    if (j.constraint >= 0 && size_t(j.constraint) < m_.assembly.constraints.size()) {
+        const Constraint& c = m_.assembly.constraints[size_t(j.constraint)];
+        return Subject::constraint(c.id, c.name);
+    }
+    return Subject::constraint({}, j.name);
 }
 
 const std::vector<Mesh>& ExportModel::shapes(int body) {

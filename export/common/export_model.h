@@ -43,6 +43,13 @@ public:
     const ExportSettings& settings() const { return settings_; }
     const TreeIndex& tree() const { return tree_; }
     const JointPlacement& placement(int joint) const { return placements_[size_t(joint)]; }
+    // The drive on mechanism joint `joint`, nullptr when it is passive.
+    const Drive* drive_of(int joint) const {
+        const int d = joint >= 0 && size_t(joint) < drive_index_.size() ? drive_index_[size_t(joint)] : -1;
+        return d < 0 ? nullptr : &settings_.drives[size_t(d)];
+    }
+    // The CAD constraint a joint came from, for notes about it.
+    Subject joint_subject(int joint) const;
 
     // Meshes of `body` (empty when there is no geometry or it failed to load;
     // a failure becomes a note once).
@@ -67,6 +74,7 @@ private:
     ExportSettings settings_;
     TreeIndex tree_;
     std::vector<JointPlacement> placements_;
+    std::vector<int> drive_index_;  // joint -> settings_.drives index, -1 when passive
     std::vector<char> loaded_;
     std::vector<std::vector<Mesh>> cache_;
     std::vector<std::string> stems_;

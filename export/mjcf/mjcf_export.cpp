@@ -44,6 +44,7 @@ public:
         world_geometry(world);
         for (int b : layout_.top) body(world, b);
         equalities(root);
+        actuators(root);
         std::ostringstream os;
         doc.save(os, "  ", pugi::format_indent, pugi::encoding_utf8);
         return os.str();
@@ -134,6 +135,59 @@ private:
             set(node, "limited", "true");
             set(node, "range", number_text(j.lower) + " " + number_text(j.upper));
         }
+        // A drive's rotor and transmission inertia and its motor's back-EMF
+        // braking belong to the joint: MuJoCo adds armature to the mass
+        // matrix diagonal and applies damping outside the actuator's clamp,
+        // as the real motor does.
+        if (const Drive* d = model_.drive_of(j.joint)) {
+            if (d->armature > 0) set(node, "armature", number_text(d->armature));
+            if (d->servo.emf_damping > 0) set(node, "damping", number_text(d->servo.emf_damping));
+        }
+    }
+
+    // One actuator per drive on its joint, acting at the motor shaft: gear is
+    // the drive's ratio (motor rad per joint unit), so actuator length is the
+    // motor angle and its force the motor torque after the transmission's
+    // losses, clamped to the drive's limit. A drive that MJCF can hold as a
+    // continuous PD servo becomes one (ctrl = motor-angle target = ratio *
+    // joint target); one with integral action, sampling or delay becomes a
+    // motor (ctrl = the standstill motor torque the controller asks for),
+    // for a controller run outside MuJoCo.
+    void actuators(pugi::xml_node root) {
+        const Mechanism& m = model_.mechanism();
+        pugi::xml_node list;
+        for (const MjcfBody& b : layout_.bodies)
+            for (const MjcfJoint& j : b.joints) {
+                const Drive* d = model_.drive_of(j.joint);
+                if (!d) continue;
+                if (!list) list = root.append_child("actuator");
+                const double n2 = d->ratio * d->ratio;
+                const bool servo = mjcf_drive_is_servo(*d);
+                pugi::xml_node a = list.append_child(servo ? "general" : "motor");
+                set(a, "name", mjcf_actuator_name(j.name));
+                set(a, "joint", j.name);
+                set(a, "gear", number_text(d->ratio));
+                set(a, "forcelimited", "true");
+                const double limit = d->effort_limit / d->ratio;
+                set(a, "forcerange", number_text(-limit) + " " + number_text(limit));
+                if (servo) {
+                    const double kp = d->servo.stiffness / n2, kv = d->servo.damping / n2;
+                    set(a, "gaintype", "fixed");
+                    set(a, "gainprm", number_text(kp));
+                    set(a, "biastype", "affine");
+                    set(a, "biasprm", "0 " + number_text(-kp) + " " + number_text(-kv));
+                }
+                const Joint& joint = m.joints[size_t(j.joint)];
+                std::string what = "drive '" + d->name + "' on joint '" + joint.name + "' (motor " + d->motor_name +
+                                   (d->transmission_name.empty() ? "" : ", " + d->transmission_name) + ")";
+                if (!servo)
+                    model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(j.joint),
+                                "MJCF: " + what + " is a motor actuator; its controller (" +
+                                    d->servo.approximation + ") must run outside MuJoCo");
+                else if (!d->servo.approximation.empty())
+                    model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(j.joint),
+                                "MJCF: " + what + " is a PD servo: " + d->servo.approximation);
+            }
     }
 
     void equalities(pugi::xml_node root) {

@@ -45,6 +45,30 @@ void write_inertial(pugi::xml_node link, const RigidBody& body, const Pose& link
     set_number(t, "izz", I(2, 2));
 }
 
+// One SimpleTransmission per drive (the ROS convention consumers such as
+// ros2_control and Gazebo read), with the reduction, and the rotor inertia in
+// Drake's extension: Drake adds rotor_inertia * gear_ratio^2 to the joint,
+// which is the drive's armature when rotor_inertia is armature / ratio^2.
+void write_transmissions(pugi::xml_node robot, const ExportModel& model, const UrdfLayout& L) {
+    const Mechanism& m = model.mechanism();
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+        const Drive* d = model.drive_of(int(j));
+        if (!d) continue;
+        const std::string& joint = L.joint_name[j];
+        pugi::xml_node t = robot.append_child("transmission");
+        t.append_attribute("name") = ("drive_" + joint).c_str();
+        t.append_child("type").text() = "transmission_interface/SimpleTransmission";
+        pugi::xml_node tj = t.append_child("joint");
+        tj.append_attribute("name") = joint.c_str();
+        tj.append_child("hardwareInterface").text() = "hardware_interface/EffortJointInterface";
+        pugi::xml_node a = t.append_child("actuator");
+        a.append_attribute("name") = ("motor_" + joint).c_str();
+        a.append_child("mechanicalReduction").text() = number_text(d->ratio).c_str();
+        set_number(a.append_child("drake:rotor_inertia"), "value", d->armature / (d->ratio * d->ratio));
+        set_number(a.append_child("drake:gear_ratio"), "value", d->ratio);
+    }
+}
+
 std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
     const Mechanism& m = model.mechanism();
     const mbx_mesh_format mesh_format = urdf_mesh_format(model.settings().mesh_format);
@@ -57,6 +81,7 @@ std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
                    "see docs/exporters.md, URDF. ");
     pugi::xml_node robot = doc.append_child("robot");
     robot.append_attribute("name") = L.robot.c_str();
+    if (!model.settings().drives.empty()) robot.append_attribute("xmlns:drake") = "http://drake.mit.edu";
 
     // Each link, then the joint that holds it, in parent-first order.
     std::vector<int> joint_of_link(L.links.size(), -1);
@@ -87,14 +112,22 @@ std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
         xj.append_child("child").append_attribute("link") = L.links[size_t(u.child_link)].name.c_str();
         if (u.type != "fixed" && u.type != "floating")
             xj.append_child("axis").append_attribute("xyz") = spaced_text(u.axis).c_str();
-        if (u.has_limit) {
+        const Drive* drive = u.spherical_axis < 0 ? model.drive_of(u.source) : nullptr;
+        if (u.has_limit || drive) {
+            // A driven joint's effort and velocity limits are its drive's;
+            // a continuous joint carries them without lower/upper.
             pugi::xml_node lim = xj.append_child("limit");
-            set_number(lim, "lower", u.lower);
-            set_number(lim, "upper", u.upper);
-            set_number(lim, "effort", kUrdfEffortLimit);
-            set_number(lim, "velocity", kUrdfVelocityLimit);
+            if (u.has_limit) {
+                set_number(lim, "lower", u.lower);
+                set_number(lim, "upper", u.upper);
+            }
+            set_number(lim, "effort", drive ? drive->effort_limit : kUrdfEffortLimit);
+            set_number(lim, "velocity", drive ? drive->velocity_limit : kUrdfVelocityLimit);
         }
+        if (drive && drive->servo.emf_damping > 0)
+            set_number(xj.append_child("dynamics"), "damping", drive->servo.emf_damping);
     }
+    write_transmissions(robot, model, L);
     std::ostringstream os;
     doc.save(os, "  ", pugi::format_indent, pugi::encoding_utf8);
     return os.str();

@@ -20,6 +20,7 @@ const char* kTranslateUsage =
     "usage: mbx translate <input> -o <dir> [--shapes <file.wrl>] [--mesh-dir <dir>]... [--no-mass-check]\n"
     "                     [--strict] [--progress] [--length-tolerance <m>]\n"
     "                     [--format <list>] [--mesh-format stl|obj|gltf] [--name <model>] [--stop-time <s>]\n"
+    "                     [--library <file.xml>]... [--drives <file.xml>]\n"
     "\n"
     "  <input>     a SimMechanics first-generation XML export (*.xml), or a built-in assembly ('mbx list')\n"
     "  -o <dir>    output directory (created if missing)\n"
@@ -38,6 +39,10 @@ const char* kTranslateUsage =
     "              MJCF and URDF use STL unless obj)\n"
     "  --name <model>  model name in the exports (default: the input's file name or built-in name)\n"
     "  --stop-time <s>  Modelica experiment stop time (default 10)\n"
+    "  --library <file.xml>  an object library of motors and transmissions (repeatable; a drive file may\n"
+    "              also name its libraries)\n"
+    "  --drives <file.xml>  drives, controllers and motion targets keyed by the CAD joints' ids\n"
+    "              (docs/mechatronics.md); every export then includes them\n"
     "\n"
     "An XML or VRML file that cannot be read is reported as 'mbx: <file>:<line>: <message>' (exit code 1);\n"
     "nothing is written then. Missing mesh files and unmatched shapes are findings in the report.\n";
@@ -50,7 +55,9 @@ int progress_to_stderr(void*, const char* stage, double fraction) {
 struct Context {
     mbx_context* ctx = nullptr;
     mbx_mechanism* mech = nullptr;
+    mbx_mechatronics* mechatronics = nullptr;
     ~Context() {
+        mbx_mechatronics_destroy(mechatronics);
         mbx_mechanism_destroy(mech);
         mbx_context_destroy(ctx);
     }
@@ -58,6 +65,13 @@ struct Context {
 
 int fail(const Context& c, mbx_status status, const char* what) {
     std::fprintf(stderr, "mbx: %s failed (%s): %s\n", what, mbx_status_name(status), mbx_context_last_error(c.ctx));
+    return 1;
+}
+
+// A library or drive file with problems: its message already lists them
+// with file and line, one per line.
+int fail_input(const Context& c) {
+    std::fprintf(stderr, "mbx: %s\n", mbx_context_last_error(c.ctx));
     return 1;
 }
 
@@ -101,6 +115,20 @@ std::string stem_of(const std::string& path) {
     return name;
 }
 
+// One line per drive with what it amounts to at the joint.
+void print_drives(const mbx_mechanism* mech) {
+    const uint32_t n = mbx_mechanism_drive_count(mech);
+    for (uint32_t i = 0; i < n; ++i) {
+        mbx_drive_info d{};
+        d.struct_size = sizeof d;
+        if (mbx_mechanism_get_drive(mech, i, &d) != MBX_OK) continue;
+        const char* effort = d.linear ? "N" : "N m";
+        std::printf("drive %s: %s%s%s, ratio %.6g, armature %.4g %s, effort limit %.4g %s, speed limit %.4g %s\n", d.name,
+                    d.motor_name, d.transmission_name[0] ? " + " : "", d.transmission_name, d.ratio, d.armature,
+                    d.linear ? "kg" : "kg m^2", d.effort_limit, effort, d.velocity_limit, d.linear ? "m/s" : "rad/s");
+    }
+}
+
 }  // namespace
 
 int run_list(const std::vector<std::string>& args) {
@@ -120,7 +148,8 @@ int run_translate(const std::vector<std::string>& args) {
     uint32_t formats = MBX_EXPORT_ALL;
     mbx_export_options export_options{};
     export_options.struct_size = sizeof export_options;
-    std::string model_name;
+    std::string model_name, drives_path;
+    std::vector<std::string> libraries;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         if (a == "-h" || a == "--help") {
@@ -160,6 +189,14 @@ int run_translate(const std::vector<std::string>& args) {
                 std::fprintf(stderr, "mbx translate: --mesh-format takes stl, obj or gltf (got '%s')\n", f.c_str());
                 return 2;
             }
+        } else if (a == "--library" && i + 1 < args.size()) {
+            libraries.push_back(args[++i]);
+        } else if (a == "--drives" && i + 1 < args.size()) {
+            if (!drives_path.empty()) {
+                std::fprintf(stderr, "mbx translate: --drives is given twice\n");
+                return 2;
+            }
+            drives_path = args[++i];
         } else if (a == "--name" && i + 1 < args.size()) {
             model_name = args[++i];
         } else if (a == "--stop-time" && i + 1 < args.size()) {
@@ -231,8 +268,19 @@ int run_translate(const std::vector<std::string>& args) {
     options.struct_size = sizeof options;
     options.length_tolerance = length_tolerance;
     if (file_input && mass_check) options.flags = MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
+    // Libraries and drives are read before translating, so a typo in them
+    // costs no translation time.
+    if (!libraries.empty() || !drives_path.empty()) {
+        if (mbx_mechatronics_create(c.ctx, &c.mechatronics) != MBX_OK) return fail(c, MBX_ERROR_OUT_OF_MEMORY, "setup");
+        for (const std::string& lib : libraries)
+            if (mbx_mechatronics_load_library(c.ctx, c.mechatronics, lib.c_str()) != MBX_OK) return fail_input(c);
+        if (!drives_path.empty() && mbx_mechatronics_load_drives(c.ctx, c.mechatronics, drives_path.c_str()) != MBX_OK)
+            return fail_input(c);
+    }
     mbx_status status = mbx_translate(c.ctx, table, &options, &c.mech);
     if (status != MBX_OK) return fail(c, status, "translation");
+    if (c.mechatronics && mbx_mechanism_set_mechatronics(c.ctx, c.mech, c.mechatronics) != MBX_OK)
+        return fail_input(c);
     // Export before the report, so what a format could not express is in it.
     if (formats) {
         if (model_name.empty()) model_name = file_input ? stem_of(input) : stem_of(input.substr(input.rfind(':') + 1));
@@ -261,6 +309,7 @@ int run_translate(const std::vector<std::string>& args) {
     if (formats & MBX_EXPORT_MJCF) std::printf("mjcf: %s/mjcf/\n", out_dir.c_str());
     if (formats & MBX_EXPORT_URDF) std::printf("urdf: %s/urdf/\n", out_dir.c_str());
     if (formats & MBX_EXPORT_MESHES) std::printf("meshes: %s/meshes/ and %s/scene.glb\n", out_dir.c_str(), out_dir.c_str());
+    print_drives(c.mech);
     return strict && s.error_count > 0 ? 3 : 0;
 }
 

@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 4u
+#define MBX_ABI_VERSION 5u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -565,6 +565,144 @@ MBX_API mbx_status mbx_mechanism_export(mbx_context *context, mbx_mechanism *mec
                                         const mbx_export_options *options, const char *directory);
 
 /* ------------------------------------------------------------------------ */
+/* Mechatronics (ABI 5): object library, drives, motion targets              */
+/* ------------------------------------------------------------------------ */
+/* What a user adds to the CAD model (thesis section 2.8): DC motors and
+ * transmissions drawn from an XML object library, assigned to joints by the
+ * joint's stable CAD id, with an amplifier, a position controller and a
+ * motion target. An mbx_mechatronics object holds these independently of any
+ * mechanism, so the same assignment is re-applied after the CAD model
+ * changes; mbx_mechanism_set_mechatronics resolves it against a mechanism,
+ * and exports then include the drives (docs/mechatronics.md). */
+typedef struct mbx_mechatronics mbx_mechatronics;
+
+typedef enum mbx_amplifier_mode {
+    MBX_AMPLIFIER_VOLTAGE = 0, /* controller output = armature voltage (V) */
+    MBX_AMPLIFIER_CURRENT = 1  /* armature current = amplifier_gain * output */
+} mbx_amplifier_mode;
+
+typedef enum mbx_velocity_estimate {
+    MBX_VELOCITY_MEASURED = 0,           /* true joint velocity (continuous controllers) */
+    MBX_VELOCITY_DIFFERENCE = 1,         /* (q_k - q_k-1) / Ts */
+    MBX_VELOCITY_FILTERED_DIFFERENCE = 2 /* difference of (q_k + q_k-1) / 2 */
+} mbx_velocity_estimate;
+
+/* Position loop on e = target - q (joint units, rad or m):
+ *   u_p = kp e + ki integral(e) - kd qdot
+ * with a velocity loop (kv > 0): u = kv (u_p - qdot) + kvi integral(u_p - qdot),
+ * else u = u_p; then |u| <= output_limit (0: VaNominal in voltage mode) and a
+ * transport delay. sample_period 0 = continuous time. */
+typedef struct mbx_controller_desc {
+    uint32_t struct_size;
+    double kp, ki, kd;
+    double kv, kvi;
+    double sample_period; /* s, 0 = continuous */
+    double delay;         /* s; whole samples for a discrete controller */
+    double output_limit;
+    mbx_velocity_estimate velocity_estimate;
+} mbx_controller_desc;
+
+/* An editable library parameter overridden for one drive, in the unit its
+ * class declares. (Fixed layout: it is used in arrays.) */
+typedef struct mbx_parameter_override {
+    const char *name;
+    double value;
+} mbx_parameter_override;
+
+typedef struct mbx_drive_desc {
+    uint32_t struct_size;
+    const char *name;            /* NULL or "": the joint's name */
+    const char *constraint_id;   /* the CAD joint (host constraint id); required */
+    int32_t primitive_index;     /* position in its chain; -1: its only prismatic/revolute primitive */
+    const char *motor_id;        /* object library ID of a dc_motor object; required */
+    const char *transmission_id; /* gearbox or ball_screw object ID; NULL or "": none */
+    mbx_amplifier_mode amplifier_mode;
+    double amplifier_gain;       /* A per unit of output (current mode) */
+    const mbx_controller_desc *controller; /* required */
+    const mbx_parameter_override *overrides;
+    uint32_t override_count;
+} mbx_drive_desc;
+
+typedef enum mbx_interpolation {
+    MBX_INTERPOLATION_LINEAR = 0,
+    MBX_INTERPOLATION_SMOOTH = 1, /* rest-to-rest quintic between points */
+    MBX_INTERPOLATION_STEP = 2
+} mbx_interpolation;
+
+typedef struct mbx_motion_point {
+    double time;  /* s, strictly increasing */
+    double value; /* rad or m (SI) */
+} mbx_motion_point;
+
+MBX_API mbx_status mbx_mechatronics_create(mbx_context *context, mbx_mechatronics **out_mechatronics);
+MBX_API void mbx_mechatronics_destroy(mbx_mechatronics *mechatronics);
+/* Loads an object library file (docs/object_library.md). Every problem of the
+ * file is in the error message, one per line ("file:line: class/object:
+ * message"); the structured error names the first. Nothing of a file with
+ * problems is kept. */
+MBX_API mbx_status mbx_mechatronics_load_library(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                 const char *path);
+/* The same from text in memory; `name` stands for the file in messages. */
+MBX_API mbx_status mbx_mechatronics_load_library_text(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                      const char *text, const char *name);
+/* Loads a drive description file (docs/mechatronics.md) and the libraries it
+ * names. Errors as for libraries; nothing of a file with problems is kept. */
+MBX_API mbx_status mbx_mechatronics_load_drives(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                const char *path);
+/* Adds one drive (replacing a drive on the same joint). Checked for form
+ * here, against the library and the mechanism by mbx_mechanism_set_mechatronics. */
+MBX_API mbx_status mbx_mechatronics_add_drive(mbx_context *context, mbx_mechatronics *mechatronics,
+                                              const mbx_drive_desc *drive);
+/* Sets the motion target of the drive on (constraint_id, primitive_index);
+ * count 0 holds 0. The drive must have been added. */
+MBX_API mbx_status mbx_mechatronics_set_motion(mbx_context *context, mbx_mechatronics *mechatronics,
+                                               const char *constraint_id, int32_t primitive_index,
+                                               const mbx_motion_point *points, uint32_t count,
+                                               mbx_interpolation interpolation);
+MBX_API uint32_t mbx_mechatronics_drive_count(const mbx_mechatronics *mechatronics);
+
+/* Resolves every drive against the mechanism and attaches them (replacing
+ * earlier ones; NULL detaches). Fails with MBX_ERROR_INVALID_INPUT, attaching
+ * nothing, when a drive names an unknown constraint, a joint that cannot be
+ * driven (weld, spherical, cut) or driven twice, a missing library object or
+ * one of the wrong kind, an override that is not editable or out of bounds,
+ * or an unusable controller; the message lists every problem. The mechanism
+ * keeps its own copy: `mechatronics` may be destroyed afterwards. */
+MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context *context, mbx_mechanism *mechanism,
+                                                  const mbx_mechatronics *mechatronics);
+
+/* A resolved drive: every quantity at the joint, the same in every export. */
+typedef struct mbx_drive_info {
+    uint32_t struct_size;
+    const char *name;
+    uint32_t joint;             /* mbx_mechanism_get_joint index */
+    int32_t linear;             /* 1: prismatic (efforts N, inertia kg) */
+    const char *motor_name;
+    const char *transmission_name; /* "" when none */
+    double ratio;               /* motor rad per joint rad (or per m) */
+    double efficiency;
+    double armature;            /* rotor + transmission inertia at the joint */
+    double effort_limit;        /* N m or N at the joint */
+    double velocity_limit;      /* rad/s or m/s at the joint */
+    double output_limit;        /* controller output bound (V or amplifier units) */
+    double torque_constant;     /* N m/A = V s/rad */
+    double stall_torque;        /* motor shaft, at VaNominal */
+    double no_load_speed;       /* motor shaft, rad/s at VaNominal */
+    double rotor_inertia;       /* kg m^2 */
+    double servo_stiffness;     /* equivalent continuous servo at the joint (docs/mechatronics.md) */
+    double servo_damping;
+    double emf_damping;         /* back-EMF braking, voltage mode */
+    uint32_t motion_point_count;
+} mbx_drive_info;
+
+MBX_API uint32_t mbx_mechanism_drive_count(const mbx_mechanism *mechanism);
+MBX_API mbx_status mbx_mechanism_get_drive(const mbx_mechanism *mechanism, uint32_t index, mbx_drive_info *out);
+/* Motion target of drive `index` at `time`: position, velocity, acceleration
+ * (SI) written to out[0..2]. */
+MBX_API mbx_status mbx_mechanism_drive_target(const mbx_mechanism *mechanism, uint32_t index, double time,
+                                              double out[3]);
+
+/* ------------------------------------------------------------------------ */
 /* Plugin entry: one exported function returns the whole API as a table, so a */
 /* host can dlopen() the plugin and dlsym() a single name.                    */
 /* ------------------------------------------------------------------------ */
@@ -597,6 +735,20 @@ typedef struct mbx_api {
     uint32_t (*abi_version_fn)(void);
     /* --- version 4 --- */
     mbx_status (*mechanism_export)(mbx_context *, mbx_mechanism *, const mbx_export_options *, const char *);
+    /* --- version 5 --- */
+    mbx_status (*mechatronics_create)(mbx_context *, mbx_mechatronics **);
+    void (*mechatronics_destroy)(mbx_mechatronics *);
+    mbx_status (*mechatronics_load_library)(mbx_context *, mbx_mechatronics *, const char *);
+    mbx_status (*mechatronics_load_library_text)(mbx_context *, mbx_mechatronics *, const char *, const char *);
+    mbx_status (*mechatronics_load_drives)(mbx_context *, mbx_mechatronics *, const char *);
+    mbx_status (*mechatronics_add_drive)(mbx_context *, mbx_mechatronics *, const mbx_drive_desc *);
+    mbx_status (*mechatronics_set_motion)(mbx_context *, mbx_mechatronics *, const char *, int32_t,
+                                          const mbx_motion_point *, uint32_t, mbx_interpolation);
+    uint32_t (*mechatronics_drive_count)(const mbx_mechatronics *);
+    mbx_status (*mechanism_set_mechatronics)(mbx_context *, mbx_mechanism *, const mbx_mechatronics *);
+    uint32_t (*mechanism_drive_count)(const mbx_mechanism *);
+    mbx_status (*mechanism_get_drive)(const mbx_mechanism *, uint32_t, mbx_drive_info *);
+    mbx_status (*mechanism_drive_target)(const mbx_mechanism *, uint32_t, double, double *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

@@ -7,6 +7,7 @@
 
 #include "assembly/shape_loader.h"
 #include "core/finding.h"
+#include "mechatronics/drive.h"
 #include "mbx/mbx.h"
 #include "translator/mechanism.h"
 
@@ -44,6 +45,7 @@ struct mbx_mechanism {
     bool has_host = false;
     std::vector<std::unique_ptr<std::vector<mbx::Mesh>>> shapes;  // per rigid body, loaded on demand
     mutable std::unordered_map<std::string, int> part_index;       // built on the first lookup
+    std::vector<mbx::Drive> drives;  // resolved by mbx_mechanism_set_mechatronics
 
     // Meshes of rigid body `body`, asked from the host once, then cached.
     // `m` is passed because during translation `model` is not set yet.
@@ -53,4 +55,8 @@ struct mbx_mechanism {
         if (!cache) cache = std::make_unique<std::vector<mbx::Mesh>>(mbx::load_body_shapes(host, m, body));
         return *cache;
     }
+};
+
+struct mbx_mechatronics {
+    mbx::MechatronicSpec spec;
 };

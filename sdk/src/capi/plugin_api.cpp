@@ -29,6 +29,18 @@ const mbx_api kApi = {
     mbx_mechanism_write_report,
     mbx_abi_version,
     mbx_mechanism_export,
+    mbx_mechatronics_create,
+    mbx_mechatronics_destroy,
+    mbx_mechatronics_load_library,
+    mbx_mechatronics_load_library_text,
+    mbx_mechatronics_load_drives,
+    mbx_mechatronics_add_drive,
+    mbx_mechatronics_set_motion,
+    mbx_mechatronics_drive_count,
+    mbx_mechanism_set_mechatronics,
+    mbx_mechanism_drive_count,
+    mbx_mechanism_get_drive,
+    mbx_mechanism_drive_target,
 };
 
 }  // namespace

@@ -68,7 +68,11 @@ struct DriveSpec {
     std::map<std::string, double> overrides;
     AmplifierSpec amplifier;
     ControllerSpec controller;
-    MotionProfile motion;  // default: hold 0
+    MotionProfile motion;  // SI (rad or m); default: hold 0
+    // Unit the motion was written in ("rad", "deg", "m", "mm"; "" = SI, no
+    // check): resolve_drives refuses an angle on a prismatic joint and a
+    // length on a revolute one.
+    std::string motion_unit;
     std::string file;      // where it was declared, "" when set through the C API
     int line = 0;
 };
@@ -92,8 +96,8 @@ struct ServoEquivalent {
     double damping = 0;      // N m s/rad or N s/m, from kd and the velocity loop
     double emf_damping = 0;  // idem
     double effort_limit = 0; // N m or N, at the joint
-    // Why the drive is not exactly this servo ("" if it is): integral action,
-    // sampling, delay.
+    // Why the drive is not exactly this servo ("" if it is, La aside): integral
+    // action, sampling, delay.
     std::string approximation;
 };
 

@@ -2,6 +2,8 @@
 
 #include <pugixml.hpp>
 
+#include "mechatronics/xml_text.h"
+
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -37,16 +39,6 @@ std::string upper(std::string s) {
     return s;
 }
 
-bool parse_number(const std::string& text, double& out) {
-    const char* b = text.data();
-    const char* e = b + text.size();
-    while (b < e && std::isspace(static_cast<unsigned char>(*b))) ++b;
-    while (e > b && std::isspace(static_cast<unsigned char>(e[-1]))) --e;
-    if (b < e && *b == '+') ++b;
-    const auto r = std::from_chars(b, e, out);
-    return r.ec == std::errc() && r.ptr == e && std::isfinite(out);
-}
-
 const char* type_name(ParameterType t) {
     switch (t) {
     case ParameterType::Integer: return "Integer";
@@ -57,29 +49,6 @@ const char* type_name(ParameterType t) {
     return "Real";
 }
 
-// Line of a node, from its byte offset (pugixml keeps offsets, not lines).
-class LineMap {
-public:
-    explicit LineMap(const std::string& text) {
-        for (size_t i = 0; i < text.size(); ++i)
-            if (text[i] == '\n') newlines_.push_back(i);
-    }
-    int line(const pugi::xml_node& n) const {
-        const ptrdiff_t off = n.offset_debug();
-        if (off < 0) return 0;
-        size_t lo = 0, hi = newlines_.size();
-        while (lo < hi) {
-            const size_t mid = (lo + hi) / 2;
-            if (newlines_[mid] < size_t(off)) lo = mid + 1;
-            else hi = mid;
-        }
-        return int(lo) + 1;
-    }
-
-private:
-    std::vector<size_t> newlines_;
-};
-
 }  // namespace
 
 std::optional<double> unit_si_factor(const std::string& unit) {
@@ -89,9 +58,9 @@ std::optional<double> unit_si_factor(const std::string& unit) {
     return it->second;
 }
 
-const ParameterDecl* LibraryClass::parameter(const std::string& name) const {
+const ParameterDecl* LibraryClass::parameter(const std::string& wanted) const {
     for (const ParameterDecl& p : parameters)
-        if (p.name == name) return &p;
+        if (p.name == wanted) return &p;
     return nullptr;
 }
 
@@ -102,27 +71,23 @@ std::string LibraryError::text() const {
 }
 
 void ObjectLibrary::load_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    std::string text;
+    if (!read_text_file(path, text)) {
         errors_.push_back({path, 0, "", "cannot open the library file"});
         return;
     }
-    std::ostringstream s;
-    s << in.rdbuf();
-    load_text(s.str(), path);
+    load_text(text, path);
 }
 
 void ObjectLibrary::load_text(const std::string& text, const std::string& file) {
-    const LineMap lines(text);
+    const XmlLines lines(text);
     auto error = [&](const pugi::xml_node& at, std::string object, std::string message) {
         errors_.push_back({file, lines.line(at), std::move(object), std::move(message)});
     };
     pugi::xml_document doc;
     const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
     if (!parsed) {
-        int line = 1;
-        for (ptrdiff_t i = 0; i < parsed.offset && size_t(i) < text.size(); ++i) line += text[size_t(i)] == '\n';
-        errors_.push_back({file, line, "", std::string("not well-formed XML: ") + parsed.description()});
+        errors_.push_back({file, lines.line_at(parsed.offset), "", std::string("not well-formed XML: ") + parsed.description()});
         return;
     }
     const pugi::xml_node root = doc.child("object_library");
@@ -202,7 +167,7 @@ void ObjectLibrary::load_text(const std::string& text, const std::string& file) 
                     const pugi::xml_attribute a = p.attribute(which);
                     if (!a) continue;
                     double v = 0;
-                    if (!parse_number(a.as_string(), v)) {
+                    if (!parse_xml_number(a.as_string(), v)) {
                         error(p, cls.name, "parameter '" + d.name + "': " + which + " bound '" + a.as_string() +
                                                "' is not a number");
                         bounds_ok = false;
@@ -261,9 +226,9 @@ void ObjectLibrary::load_text(const std::string& text, const std::string& file) 
                     }
                     bool typed = true;
                     switch (d->type) {
-                    case ParameterType::Real: typed = parse_number(pv.text, pv.number); break;
+                    case ParameterType::Real: typed = parse_xml_number(pv.text, pv.number); break;
                     case ParameterType::Integer:
-                        typed = parse_number(pv.text, pv.number) && pv.number == std::floor(pv.number);
+                        typed = parse_xml_number(pv.text, pv.number) && pv.number == std::floor(pv.number);
                         break;
                     case ParameterType::Boolean:
                         typed = pv.text == "true" || pv.text == "false";

@@ -1,0 +1,237 @@
+// The mechatronics entry points: library and drive files, drives and motions
+// from the host, resolution against a mechanism, and drive queries.
+#include <cmath>
+#include <cstring>
+
+#include "capi/guard.h"
+#include "mechatronics/drive_file.h"
+
+using namespace mbx;
+
+namespace {
+
+std::string text_or_empty(const char* s) { return s ? s : ""; }
+
+// All problems in one message (a line each); the structured error names the first.
+[[noreturn]] void fail_with(const std::vector<LibraryError>& errors, const std::string& what) {
+    std::string message = what + " (" + std::to_string(errors.size()) + " problem" + (errors.size() > 1 ? "s" : "") + "):";
+    for (const LibraryError& e : errors) message += "\n" + e.text();
+    throw Error(MBX_ERROR_INVALID_INPUT, Subject{MBX_SUBJECT_FILE, errors.front().object, errors.front().object},
+                message, errors.front().file, errors.front().line);
+}
+
+// Loads into a copy and keeps it only when clean, so a bad file changes nothing.
+template <class Load>
+void load_all_or_nothing(mbx_mechatronics* m, const std::string& what, Load&& load) {
+    MechatronicSpec copy = m->spec;
+    const size_t library_errors = copy.library.errors().size();
+    std::vector<DriveError> errors;
+    load(copy, errors);
+    const auto& lib = copy.library.errors();
+    std::vector<LibraryError> all(lib.begin() + ptrdiff_t(library_errors), lib.end());
+    all.insert(all.end(), errors.begin(), errors.end());
+    if (!all.empty()) fail_with(all, what);
+    m->spec = std::move(copy);
+}
+
+DriveSpec* find_drive(MechatronicSpec& spec, const std::string& constraint_id, int primitive) {
+    for (DriveSpec& d : spec.drives)
+        if (d.joint.constraint_id == constraint_id && d.joint.primitive == primitive) return &d;
+    return nullptr;
+}
+
+bool valid_enum(int value, int last) { return value >= 0 && value <= last; }
+
+template <class E>
+int raw_enum(const E& e) {
+    int raw = 0;
+    static_assert(sizeof raw == sizeof e, "C enums are int-sized");
+    std::memcpy(&raw, &e, sizeof raw);
+    return raw;
+}
+
+}  // namespace
+
+extern "C" {
+
+MBX_API mbx_status mbx_mechatronics_create(mbx_context* context, mbx_mechatronics** out) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!out) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "out_mechatronics is NULL");
+    *out = nullptr;
+    return guarded(context, [&] { *out = new mbx_mechatronics(); });
+}
+
+MBX_API void mbx_mechatronics_destroy(mbx_mechatronics* mechatronics) { delete mechatronics; }
+
+MBX_API mbx_status mbx_mechatronics_load_library(mbx_context* context, mbx_mechatronics* m, const char* path) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !path || !path[0]) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or path is NULL or empty");
+    return guarded(context, [&] {
+        load_all_or_nothing(m, std::string("object library '") + path + "' has problems",
+                            [&](MechatronicSpec& s, std::vector<DriveError>&) { s.library.load_file(path); });
+    });
+}
+
+MBX_API mbx_status mbx_mechatronics_load_library_text(mbx_context* context, mbx_mechatronics* m, const char* text,
+                                                      const char* name) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !text) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or text is NULL");
+    const std::string file = name && name[0] ? name : "<library text>";
+    return guarded(context, [&] {
+        load_all_or_nothing(m, "object library '" + file + "' has problems",
+                            [&](MechatronicSpec& s, std::vector<DriveError>&) { s.library.load_text(text, file); });
+    });
+}
+
+MBX_API mbx_status mbx_mechatronics_load_drives(mbx_context* context, mbx_mechatronics* m, const char* path) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !path || !path[0]) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or path is NULL or empty");
+    return guarded(context, [&] {
+        load_all_or_nothing(m, std::string("drive description '") + path + "' has problems",
+                            [&](MechatronicSpec& s, std::vector<DriveError>& e) { load_drive_file(path, s, e); });
+    });
+}
+
+MBX_API mbx_status mbx_mechatronics_add_drive(mbx_context* context, mbx_mechatronics* m, const mbx_drive_desc* desc) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !desc) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or drive is NULL");
+    if (desc->struct_size < offsetof(mbx_drive_desc, override_count) + sizeof(uint32_t))
+        return context->fail(MBX_ERROR_INVALID_ARGUMENT, "drive.struct_size is too small for an ABI 5 drive");
+    return guarded(context, [&] {
+        DriveSpec d;
+        d.name = text_or_empty(desc->name);
+        d.joint.constraint_id = text_or_empty(desc->constraint_id);
+        d.joint.primitive = desc->primitive_index < 0 ? -1 : desc->primitive_index;
+        d.motor_id = text_or_empty(desc->motor_id);
+        d.transmission_id = text_or_empty(desc->transmission_id);
+        const Subject who = Subject::constraint(d.joint.constraint_id, d.name);
+        auto bad = [&](const std::string& what) { throw Error(MBX_ERROR_INVALID_INPUT, who, "drive on constraint '" + d.joint.constraint_id + "': " + what); };
+        if (d.joint.constraint_id.empty()) bad("constraint_id is required");
+        if (d.motor_id.empty()) bad("motor_id is required");
+        const int mode = raw_enum(desc->amplifier_mode);
+        if (!valid_enum(mode, MBX_AMPLIFIER_CURRENT)) bad("unknown amplifier_mode " + std::to_string(mode));
+        d.amplifier.mode = mode == MBX_AMPLIFIER_CURRENT ? AmplifierMode::Current : AmplifierMode::Voltage;
+        d.amplifier.gain = desc->amplifier_gain;
+        if (d.amplifier.mode == AmplifierMode::Current && !(std::isfinite(d.amplifier.gain) && d.amplifier.gain > 0))
+            bad("a current amplifier needs a positive, finite amplifier_gain");
+        const mbx_controller_desc* c = desc->controller;
+        if (!c) bad("controller is required");
+        if (c->struct_size < offsetof(mbx_controller_desc, velocity_estimate) + sizeof(int))
+            bad("controller.struct_size is too small");
+        d.controller.kp = c->kp;
+        d.controller.ki = c->ki;
+        d.controller.kd = c->kd;
+        d.controller.kv = c->kv;
+        d.controller.kvi = c->kvi;
+        d.controller.sample_period = c->sample_period;
+        d.controller.delay = c->delay;
+        d.controller.output_limit = c->output_limit;
+        const int ve = raw_enum(c->velocity_estimate);
+        if (!valid_enum(ve, MBX_VELOCITY_FILTERED_DIFFERENCE)) bad("unknown velocity_estimate " + std::to_string(ve));
+        d.controller.velocity_estimate = VelocityEstimate(ve);
+        for (double v : {c->kp, c->ki, c->kd, c->kv, c->kvi, c->sample_period, c->delay, c->output_limit})
+            if (!std::isfinite(v) || v < 0) bad("controller values must be finite and not negative");
+        if (desc->override_count && !desc->overrides) bad("overrides is NULL with override_count > 0");
+        for (uint32_t i = 0; i < desc->override_count; ++i) {
+            const mbx_parameter_override& o = desc->overrides[i];
+            if (!o.name || !o.name[0]) bad("override " + std::to_string(i) + " has no name");
+            if (!std::isfinite(o.value)) bad(std::string("override '") + o.name + "' is not finite");
+            d.overrides[o.name] = o.value;
+        }
+        if (DriveSpec* old = find_drive(m->spec, d.joint.constraint_id, d.joint.primitive)) {
+            d.motion = old->motion;  // a replaced drive keeps its motion
+            *old = std::move(d);
+        } else {
+            m->spec.drives.push_back(std::move(d));
+        }
+    });
+}
+
+MBX_API mbx_status mbx_mechatronics_set_motion(mbx_context* context, mbx_mechatronics* m, const char* constraint_id,
+                                               int32_t primitive_index, const mbx_motion_point* points, uint32_t count,
+                                               mbx_interpolation interpolation) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !constraint_id || (count && !points))
+        return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics, constraint_id or points is NULL");
+    return guarded(context, [&] {
+        const Subject who = Subject::constraint(constraint_id, {});
+        DriveSpec* d = find_drive(m->spec, constraint_id, primitive_index < 0 ? -1 : primitive_index);
+        if (!d)
+            throw Error(MBX_ERROR_INVALID_INPUT, who,
+                        std::string("no drive on constraint '") + constraint_id + "': add the drive first");
+        const int raw = raw_enum(interpolation);
+        if (!valid_enum(raw, MBX_INTERPOLATION_STEP))
+            throw Error(MBX_ERROR_INVALID_ARGUMENT, who, "unknown interpolation " + std::to_string(raw));
+        std::vector<MotionPoint> pts(count);
+        for (uint32_t i = 0; i < count; ++i) pts[i] = {points[i].time, points[i].value};
+        try {
+            d->motion = MotionProfile(std::move(pts), raw == MBX_INTERPOLATION_SMOOTH ? Interpolation::Smooth
+                                                      : raw == MBX_INTERPOLATION_STEP ? Interpolation::Step
+                                                                                      : Interpolation::Linear);
+        } catch (const std::invalid_argument& e) {
+            throw Error(MBX_ERROR_INVALID_INPUT, who, std::string("motion of constraint '") + constraint_id + "': " + e.what());
+        }
+    });
+}
+
+MBX_API uint32_t mbx_mechatronics_drive_count(const mbx_mechatronics* m) { return m ? uint32_t(m->spec.drives.size()) : 0; }
+
+MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mechanism* mechanism,
+                                                  const mbx_mechatronics* m) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!mechanism || !mechanism->model) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechanism is NULL");
+    return guarded(context, [&] {
+        if (!m) {
+            mechanism->drives.clear();
+            return;
+        }
+        std::vector<DriveError> errors;
+        std::vector<Drive> drives = resolve_drives(m->spec, *mechanism->model, errors);
+        if (!errors.empty()) fail_with(errors, "drives do not fit the mechanism");
+        mechanism->drives = std::move(drives);
+    });
+}
+
+MBX_API uint32_t mbx_mechanism_drive_count(const mbx_mechanism* mechanism) {
+    return mechanism ? uint32_t(mechanism->drives.size()) : 0;
+}
+
+MBX_API mbx_status mbx_mechanism_get_drive(const mbx_mechanism* mechanism, uint32_t index, mbx_drive_info* out) {
+    if (!mechanism || !out || index >= mechanism->drives.size()) return MBX_ERROR_INVALID_ARGUMENT;
+    const Drive& d = mechanism->drives[index];
+    mbx_drive_info info{};
+    info.struct_size = sizeof info;
+    info.name = d.name.c_str();
+    info.joint = uint32_t(d.joint);
+    info.linear = d.linear;
+    info.motor_name = d.motor_name.c_str();
+    info.transmission_name = d.transmission_name.c_str();
+    info.ratio = d.ratio;
+    info.efficiency = d.efficiency;
+    info.armature = d.armature;
+    info.effort_limit = d.effort_limit;
+    info.velocity_limit = d.velocity_limit;
+    info.output_limit = d.output_limit;
+    info.torque_constant = d.motor.torque_constant;
+    info.stall_torque = d.motor.stall_torque;
+    info.no_load_speed = d.motor.no_load_speed;
+    info.rotor_inertia = d.motor.rotor_inertia;
+    info.servo_stiffness = d.servo.stiffness;
+    info.servo_damping = d.servo.damping;
+    info.emf_damping = d.servo.emf_damping;
+    info.motion_point_count = uint32_t(d.spec.motion.points().size());
+    return copy_out(out, info);
+}
+
+MBX_API mbx_status mbx_mechanism_drive_target(const mbx_mechanism* mechanism, uint32_t index, double time,
+                                              double out[3]) {
+    if (!mechanism || !out || index >= mechanism->drives.size() || !std::isfinite(time))
+        return MBX_ERROR_INVALID_ARGUMENT;
+    const MotionSample s = mechanism->drives[index].spec.motion.at(time);
+    out[0] = s.position;
+    out[1] = s.velocity;
+    out[2] = s.acceleration;
+    return MBX_OK;
+}
+
+}  // extern "C"

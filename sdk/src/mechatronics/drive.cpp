@@ -1,0 +1,278 @@
+#include "mechatronics/drive.h"
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <set>
+
+#include "translator/mechanism.h"
+
+namespace mbx {
+
+namespace {
+
+std::string short_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+std::string joint_text(const JointRef& ref) {
+    return "constraint '" + ref.constraint_id + "'" +
+           (ref.primitive >= 0 ? " primitive " + std::to_string(ref.primitive) : std::string());
+}
+
+// An object with the drive's overrides applied, checked against the
+// declarations (editable, bounds).
+struct Overridden {
+    LibraryObject object;
+    bool ok = true;
+};
+
+Overridden apply_overrides(const ObjectLibrary::Found& f, const std::map<std::string, double>& overrides,
+                           const std::function<void(std::string)>& error) {
+    Overridden o{*f.object};
+    for (const auto& [name, value] : overrides) {
+        const ParameterDecl* d = f.cls->parameter(name);
+        if (!d) continue;  // belongs to the other object of the drive (motor or transmission)
+        if (!d->editable) {
+            error("parameter '" + name + "' of '" + f.object->name + "' is not editable");
+            o.ok = false;
+            continue;
+        }
+        if (!std::isfinite(value) || (d->lower && value < *d->lower) || (d->upper && value > *d->upper)) {
+            error("override " + name + " = " + short_number(value) + " " + d->unit + " is outside the bounds of '" +
+                  f.cls->name + "'");
+            o.ok = false;
+            continue;
+        }
+        ParameterValue& v = o.object.values[name];
+        v.number = value;
+        v.text = std::to_string(value);
+    }
+    return o;
+}
+
+bool valid_controller(const ControllerSpec& c, std::string& why) {
+    for (double v : {c.kp, c.ki, c.kd, c.kv, c.kvi, c.sample_period, c.delay, c.output_limit})
+        if (!std::isfinite(v) || v < 0) {
+            why = "controller gains, sample period, delay and output limit must be finite and not negative";
+            return false;
+        }
+    if (c.kp <= 0) {
+        why = "controller kp must be positive (a position loop is required)";
+        return false;
+    }
+    if (c.kvi > 0 && c.kv <= 0) {
+        why = "controller kvi needs a velocity loop (kv > 0)";
+        return false;
+    }
+    if (c.sample_period == 0 && c.velocity_estimate != VelocityEstimate::Measured) {
+        why = "a velocity estimate from samples needs a sample period";
+        return false;
+    }
+    if (c.sample_period > 0) {
+        const double samples = c.delay / c.sample_period;
+        if (std::fabs(samples - std::round(samples)) > 1e-9 * std::max(1.0, samples)) {
+            why = "a discrete controller's delay must be a whole number of sample periods";
+            return false;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
+ServoEquivalent servo_equivalent(const Drive& d) {
+    ServoEquivalent s;
+    const ControllerSpec& c = d.spec.controller;
+    const double k = d.motor.torque_constant;
+    const bool voltage = d.spec.amplifier.mode == AmplifierMode::Voltage;
+    // Joint effort per unit of controller output.
+    const double gain =
+        d.efficiency * d.ratio * k * (voltage ? 1 / d.armature_resistance : d.spec.amplifier.gain);
+    if (c.kv > 0) {
+        s.stiffness = gain * c.kv * c.kp;
+        s.damping = gain * c.kv * (c.kd + 1);
+    } else {
+        s.stiffness = gain * c.kp;
+        s.damping = gain * c.kd;
+    }
+    if (voltage) s.emf_damping = d.efficiency * d.ratio * d.ratio * k * k / d.armature_resistance;
+    s.effort_limit = gain * d.output_limit;
+    std::string why;
+    auto add = [&why](const std::string& part) { why += (why.empty() ? "" : ", ") + part; };
+    if (c.ki > 0 || c.kvi > 0) add("integral action left out");
+    if (c.sample_period > 0) add("sampled at " + short_number(c.sample_period) + " s, taken as continuous");
+    if (c.delay > 0) add("transport delay of " + short_number(c.delay) + " s left out");
+    // The armature inductance is always neglected: La/Ra is microseconds for
+    // the motors this serves, far below any mechanical time constant.
+    s.approximation = why;
+    return s;
+}
+
+std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& m, std::vector<DriveError>& errors) {
+    std::vector<Drive> out;
+    // (constraint id, primitive) -> joint, built once: lookups stay cheap on large assemblies.
+    std::map<std::string, std::vector<int>> joints_of;
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+        const Joint& joint = m.joints[j];
+        if (joint.constraint < 0) continue;
+        joints_of[m.assembly.constraints[size_t(joint.constraint)].id].push_back(int(j));
+    }
+    std::set<std::string> constraint_ids;
+    for (const Constraint& c : m.assembly.constraints) constraint_ids.insert(c.id);
+    std::set<int> driven;
+    for (const DriveSpec& s : spec.drives) {
+        const std::string who = s.name.empty() ? s.joint.constraint_id : s.name;
+        bool good = true;
+        auto error = [&](std::string message) {
+            errors.push_back({s.file, s.line, who, std::move(message)});
+            good = false;
+        };
+
+        // The joint.
+        Drive d;
+        d.spec = s;
+        const auto it = joints_of.find(s.joint.constraint_id);
+        if (!constraint_ids.count(s.joint.constraint_id)) {
+            error("no constraint with id '" + s.joint.constraint_id + "' in the assembly");
+            continue;
+        }
+        std::vector<int> candidates;
+        if (it != joints_of.end())
+            for (int j : it->second) {
+                const Joint& joint = m.joints[size_t(j)];
+                if (s.joint.primitive >= 0 ? joint.primitive_index == s.joint.primitive
+                                           : joint.type == MBX_PRIMITIVE_REVOLUTE || joint.type == MBX_PRIMITIVE_PRISMATIC)
+                    candidates.push_back(j);
+            }
+        if (candidates.empty()) {
+            error(joint_text(s.joint) + " has no " +
+                  (s.joint.primitive >= 0 ? "such primitive joint (welds are merged away)"
+                                          : "prismatic or revolute primitive"));
+            continue;
+        }
+        if (candidates.size() > 1) {
+            error(joint_text(s.joint) + " has " + std::to_string(candidates.size()) +
+                  " prismatic/revolute primitives: say which with a primitive index");
+            continue;
+        }
+        d.joint = candidates.front();
+        const Joint& joint = m.joints[size_t(d.joint)];
+        d.name = s.name.empty() ? joint.name : s.name;
+        if (joint.type != MBX_PRIMITIVE_REVOLUTE && joint.type != MBX_PRIMITIVE_PRISMATIC) {
+            error("joint '" + joint.name + "' is " + (joint.type == MBX_PRIMITIVE_SPHERICAL ? "spherical" : "a weld") +
+                  ": only prismatic and revolute joints can be driven");
+            continue;
+        }
+        if (joint.cut) {
+            error("joint '" + joint.name + "' closes a loop (cut joint): drive a tree joint of the loop instead");
+            continue;
+        }
+        if (!driven.insert(d.joint).second) {
+            error("joint '" + joint.name + "' is driven twice");
+            continue;
+        }
+        d.linear = joint.type == MBX_PRIMITIVE_PRISMATIC;
+        const bool angle_unit = s.motion_unit == "rad" || s.motion_unit == "deg";
+        const bool length_unit = s.motion_unit == "m" || s.motion_unit == "mm";
+        if ((d.linear && angle_unit) || (!d.linear && length_unit)) {
+            error("motion in '" + s.motion_unit + "' for the " + (d.linear ? "prismatic" : "revolute") + " joint '" +
+                  joint.name + "'");
+            continue;
+        }
+
+        // The motor.
+        const ObjectLibrary::Found motor = spec.library.find(s.motor_id);
+        if (!motor.object) {
+            error("motor '" + s.motor_id + "' is not in the object library");
+            continue;
+        }
+        if (motor.cls->kind != "dc_motor") {
+            error("object '" + motor.object->name + "' (" + s.motor_id + ") is a '" + motor.cls->name +
+                  "', not a dc_motor");
+            continue;
+        }
+        ObjectLibrary::Found transmission;
+        if (!s.transmission_id.empty()) {
+            transmission = spec.library.find(s.transmission_id);
+            if (!transmission.object) {
+                error("transmission '" + s.transmission_id + "' is not in the object library");
+                continue;
+            }
+            if (transmission.cls->kind != "gearbox" && transmission.cls->kind != "ball_screw") {
+                error("object '" + transmission.object->name + "' is a '" + transmission.cls->name +
+                      "', not a gearbox or ball_screw");
+                continue;
+            }
+        }
+        for (const auto& [name, value] : s.overrides) {
+            (void)value;
+            const bool declared = motor.cls->parameter(name) || (transmission.cls && transmission.cls->parameter(name));
+            if (!declared) error("override of unknown parameter '" + name + "'");
+        }
+        const Overridden mo = apply_overrides(motor, s.overrides, error);
+        const ObjectLibrary::Found motor_found{motor.cls, &mo.object};
+        std::string why;
+        const std::optional<DcMotorConstants> mc = dc_motor_constants(spec.library, motor_found, why);
+        if (!mc) error("motor '" + motor.object->name + "': " + why);
+        if (!good) continue;
+        d.motor = *mc;
+        d.motor_name = motor.object->name;
+        d.motor_class_modelica = motor.cls->modelica;
+        d.armature_resistance = spec.library.si_value(motor_found, "Ra").value_or(0);
+        d.armature_inductance = spec.library.si_value(motor_found, "La").value_or(0);
+        d.motor_gear_ratio = d.motor.ratio;
+
+        if (transmission.object) {
+            const Overridden to = apply_overrides(transmission, s.overrides, error);
+            const ObjectLibrary::Found t_found{transmission.cls, &to.object};
+            const std::optional<TransmissionConstants> tc = transmission_constants(spec.library, t_found, why);
+            if (!tc) error("transmission '" + transmission.object->name + "': " + why);
+            if (!good) continue;
+            if (tc->linear != d.linear) {
+                error(std::string("a ") + (tc->linear ? "ball screw" : "gearbox") + " cannot drive the " +
+                      (d.linear ? "prismatic" : "revolute") + " joint '" + joint.name + "'");
+                continue;
+            }
+            d.transmission_name = transmission.object->name;
+            d.transmission_kind = transmission.cls->kind;
+            d.transmission_ratio = tc->ratio;
+            d.transmission_inertia = tc->inertia;
+            d.efficiency = tc->efficiency;
+        } else if (d.linear) {
+            error("the prismatic joint '" + joint.name + "' needs a ball_screw transmission to turn motor rotation into travel");
+            continue;
+        }
+        d.ratio = d.motor_gear_ratio * d.transmission_ratio;
+        d.armature = d.motor.rotor_inertia * d.ratio * d.ratio +
+                     d.transmission_inertia * d.transmission_ratio * d.transmission_ratio;
+
+        // Amplifier and controller.
+        if (!valid_controller(s.controller, why)) {
+            error(why);
+            continue;
+        }
+        const bool voltage = s.amplifier.mode == AmplifierMode::Voltage;
+        if (!voltage && !(std::isfinite(s.amplifier.gain) && s.amplifier.gain > 0)) {
+            error("a current amplifier needs a positive gain (A per unit of controller output)");
+            continue;
+        }
+        double va_nominal = spec.library.si_value(motor_found, "VaNominal").value_or(0);
+        d.output_limit = s.controller.output_limit > 0 ? s.controller.output_limit : voltage ? va_nominal : 0;
+        if (!(d.output_limit > 0)) {
+            error("a current-mode drive needs an output limit (the amplifier's input range)");
+            continue;
+        }
+        const double max_current = voltage ? d.output_limit / d.armature_resistance : s.amplifier.gain * d.output_limit;
+        d.motor_torque_limit = d.motor.torque_constant * max_current;
+        d.effort_limit = d.efficiency * d.ratio * d.motor_torque_limit;
+        d.velocity_limit = (voltage ? d.output_limit : va_nominal) / d.motor.torque_constant / d.ratio;
+        d.servo = servo_equivalent(d);
+        out.push_back(std::move(d));
+    }
+    return out;
+}
+
+}  // namespace mbx

@@ -1,0 +1,278 @@
+#include "mechatronics/drive_file.h"
+
+#include <pugixml.hpp>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "mechatronics/xml_text.h"
+
+namespace mbx {
+
+namespace {
+
+// Attributes each element may carry: anything else is a typo a user wants to
+// hear about (a misspelt "kd" silently meaning 0 is a bad afternoon).
+const std::map<std::string, std::set<std::string>>& allowed_attributes() {
+    static const std::map<std::string, std::set<std::string>> table = {
+        {"mechatronics", {"version"}},
+        {"library", {"file"}},
+        {"drive", {"name", "constraint", "primitive", "joint_name", "motor", "transmission"}},
+        {"override", {"name", "value"}},
+        {"amplifier", {"mode", "gain"}},
+        {"controller", {"kp", "ki", "kd", "kv", "kvi", "sample_period", "delay", "output_limit", "velocity_estimate"}},
+        {"motion", {"interpolation", "unit"}},
+        {"point", {"t", "q"}},
+    };
+    return table;
+}
+
+double motion_unit_factor(const std::string& unit, bool& known) {
+    known = true;
+    if (unit.empty() || unit == "rad" || unit == "m") return 1;
+    if (unit == "deg") return M_PI / 180;
+    if (unit == "mm") return 1e-3;
+    known = false;
+    return 1;
+}
+
+class Reader {
+public:
+    Reader(const std::string& text, const std::string& file, const std::string& base_dir, MechatronicSpec& spec,
+           std::vector<DriveError>& errors)
+        : text_(text), file_(file), base_dir_(base_dir), lines_(text), spec_(spec), errors_(errors) {}
+
+    void read() {
+        pugi::xml_document doc;
+        const pugi::xml_parse_result parsed = doc.load_buffer(text_.data(), text_.size(), pugi::parse_default);
+        if (!parsed) {
+            errors_.push_back({file_, lines_.line_at(parsed.offset), "",
+                               std::string("not well-formed XML: ") + parsed.description()});
+            return;
+        }
+        const pugi::xml_node root = doc.document_element();
+        if (std::string(root.name()) != "mechatronics") {
+            errors_.push_back({file_, lines_.line(root), "", "the root element must be <mechatronics>"});
+            return;
+        }
+        check_attributes(root, "");
+        const std::string version = root.attribute("version").as_string("1");
+        if (version != "1") error(root, "", "unsupported version '" + version + "' (this mbx reads version 1)");
+        for (pugi::xml_node n : root.children()) {
+            if (n.type() != pugi::node_element) continue;
+            const std::string name = n.name();
+            if (name == "library") library(n);
+            else if (name == "drive") drive(n);
+            else error(n, "", "unknown element <" + name + "> (library, drive)");
+        }
+    }
+
+private:
+    void error(const pugi::xml_node& at, const std::string& who, std::string message) {
+        errors_.push_back({file_, lines_.line(at), who, std::move(message)});
+        bad_ = true;
+    }
+
+    void check_attributes(const pugi::xml_node& n, const std::string& who) {
+        const auto it = allowed_attributes().find(n.name());
+        for (pugi::xml_attribute a : n.attributes())
+            if (it == allowed_attributes().end() || !it->second.count(a.name()))
+                error(n, who, "unknown attribute '" + std::string(a.name()) + "' on <" + n.name() + ">");
+    }
+
+    // A number attribute; `fallback` when absent.
+    double number(const pugi::xml_node& n, const char* name, double fallback, const std::string& who) {
+        const pugi::xml_attribute a = n.attribute(name);
+        if (!a) return fallback;
+        double v = 0;
+        if (!parse_xml_number(a.as_string(), v)) {
+            error(n, who, std::string(name) + " = '" + a.as_string() + "' is not a number");
+            return fallback;
+        }
+        return v;
+    }
+
+    void library(const pugi::xml_node& n) {
+        check_attributes(n, "");
+        const std::string path = n.attribute("file").as_string();
+        if (path.empty()) {
+            error(n, "", "<library> needs a file attribute");
+            return;
+        }
+        const std::string full = path[0] == '/' || base_dir_.empty() ? path : base_dir_ + "/" + path;
+        std::string text;
+        if (!read_text_file(full, text)) {
+            error(n, "", "cannot open the object library '" + full + "'");
+            return;
+        }
+        spec_.library.load_text(text, full);
+    }
+
+    void drive(const pugi::xml_node& n) {
+        bad_ = false;
+        DriveSpec d;
+        d.file = file_;
+        d.line = lines_.line(n);
+        d.name = n.attribute("name").as_string();
+        d.joint.constraint_id = n.attribute("constraint").as_string();
+        const std::string who = !d.name.empty() ? d.name : !d.joint.constraint_id.empty() ? d.joint.constraint_id
+                                                                                            : "<drive>";
+        check_attributes(n, who);
+        if (d.joint.constraint_id.empty()) error(n, who, "drive has no constraint (the CAD joint's stable id)");
+        if (n.attribute("primitive")) {
+            const double p = number(n, "primitive", -1, who);
+            if (p < 0 || p != std::floor(p) || p > 1e6) error(n, who, "primitive must be a whole number >= 0");
+            else d.joint.primitive = int(p);
+        }
+        d.motor_id = n.attribute("motor").as_string();
+        if (d.motor_id.empty()) error(n, who, "drive has no motor (a library object ID)");
+        d.transmission_id = n.attribute("transmission").as_string();
+
+        int amplifiers = 0, controllers = 0, motions = 0;
+        for (pugi::xml_node c : n.children()) {
+            if (c.type() != pugi::node_element) continue;
+            const std::string name = c.name();
+            check_attributes(c, who);
+            if (name == "override") {
+                const std::string param = c.attribute("name").as_string();
+                if (param.empty()) error(c, who, "<override> needs a name");
+                else if (!c.attribute("value")) error(c, who, "override of '" + param + "' has no value");
+                else if (d.overrides.count(param)) error(c, who, "parameter '" + param + "' overridden twice");
+                else d.overrides[param] = number(c, "value", 0, who);
+            } else if (name == "amplifier") {
+                if (++amplifiers > 1) error(c, who, "more than one <amplifier>");
+                const std::string mode = c.attribute("mode").as_string("voltage");
+                if (mode == "voltage") d.amplifier.mode = AmplifierMode::Voltage;
+                else if (mode == "current") d.amplifier.mode = AmplifierMode::Current;
+                else error(c, who, "amplifier mode '" + mode + "' is neither voltage nor current");
+                d.amplifier.gain = number(c, "gain", 1, who);
+                if (d.amplifier.mode == AmplifierMode::Voltage && c.attribute("gain"))
+                    error(c, who, "a voltage amplifier has no gain (the output is the armature voltage)");
+            } else if (name == "controller") {
+                if (++controllers > 1) error(c, who, "more than one <controller>");
+                controller(c, who, d.controller);
+            } else if (name == "motion") {
+                if (++motions > 1) error(c, who, "more than one <motion>");
+                motion(c, who, d);
+            } else {
+                error(c, who, "unknown element <" + name + "> in a drive (override, amplifier, controller, motion)");
+            }
+        }
+        if (controllers == 0) error(n, who, "drive has no <controller>");
+        const std::string key = d.joint.constraint_id + "#" + std::to_string(d.joint.primitive);
+        if (const auto it = seen_.find(key); it != seen_.end() && !d.joint.constraint_id.empty())
+            error(n, who, "a second drive for the same joint (the first is at line " + std::to_string(it->second) + ")");
+        else seen_.emplace(key, d.line);
+        if (!bad_) spec_.drives.push_back(std::move(d));
+    }
+
+    void controller(const pugi::xml_node& c, const std::string& who, ControllerSpec& out) {
+        if (!c.attribute("kp")) error(c, who, "controller needs kp");
+        out.kp = number(c, "kp", 0, who);
+        out.ki = number(c, "ki", 0, who);
+        out.kd = number(c, "kd", 0, who);
+        out.kv = number(c, "kv", 0, who);
+        out.kvi = number(c, "kvi", 0, who);
+        out.sample_period = number(c, "sample_period", 0, who);
+        out.delay = number(c, "delay", 0, who);
+        out.output_limit = number(c, "output_limit", 0, who);
+        const std::pair<const char*, double> values[] = {
+            {"kp", out.kp},   {"ki", out.ki}, {"kd", out.kd}, {"kv", out.kv}, {"kvi", out.kvi},
+            {"sample_period", out.sample_period}, {"delay", out.delay}, {"output_limit", out.output_limit}};
+        for (const auto& [name, value] : values)
+            if (value < 0) error(c, who, std::string(name) + " must not be negative");
+        const std::string ve = c.attribute("velocity_estimate").as_string("measured");
+        if (!parse_velocity_estimate(ve, out.velocity_estimate))
+            error(c, who, "velocity_estimate '" + ve + "' is not measured, difference or filtered_difference");
+        else if (out.velocity_estimate != VelocityEstimate::Measured && !(out.sample_period > 0))
+            error(c, who, "velocity_estimate '" + ve + "' needs a sample_period");
+        if (out.sample_period > 0) {
+            const double samples = out.delay / out.sample_period;
+            if (std::fabs(samples - std::round(samples)) > 1e-9 * std::max(1.0, samples))
+                error(c, who, "delay must be a whole number of sample periods for a discrete controller");
+        }
+    }
+
+    void motion(const pugi::xml_node& m, const std::string& who, DriveSpec& d) {
+        Interpolation interpolation = Interpolation::Linear;
+        const std::string word = m.attribute("interpolation").as_string("linear");
+        if (!parse_interpolation(word, interpolation))
+            error(m, who, "interpolation '" + word + "' is not linear, smooth or step");
+        d.motion_unit = m.attribute("unit").as_string();
+        bool known = true;
+        const double factor = motion_unit_factor(d.motion_unit, known);
+        if (!known) error(m, who, "motion unit '" + d.motion_unit + "' is not rad, deg, m or mm");
+        std::vector<MotionPoint> points;
+        for (pugi::xml_node p : m.children()) {
+            if (p.type() != pugi::node_element) continue;
+            if (std::string(p.name()) != "point") {
+                error(p, who, "unknown element <" + std::string(p.name()) + "> in a motion (point)");
+                continue;
+            }
+            check_attributes(p, who);
+            if (!p.attribute("t") || !p.attribute("q")) {
+                error(p, who, "a motion point needs t and q");
+                continue;
+            }
+            MotionPoint mp{number(p, "t", 0, who), number(p, "q", 0, who) * factor};
+            if (!points.empty() && !(mp.time > points.back().time)) {
+                error(p, who, "motion times must increase strictly (t = " + std::string(p.attribute("t").as_string()) +
+                                  " after " + std::to_string(points.back().time) + ")");
+                continue;
+            }
+            points.push_back(mp);
+        }
+        if (points.empty()) error(m, who, "<motion> has no points");
+        try {
+            d.motion = MotionProfile(std::move(points), interpolation);
+        } catch (const std::invalid_argument& e) {
+            error(m, who, e.what());
+        }
+    }
+
+    const std::string& text_;
+    std::string file_, base_dir_;
+    XmlLines lines_;
+    MechatronicSpec& spec_;
+    std::vector<DriveError>& errors_;
+    std::map<std::string, int> seen_;  // joint key -> line of its drive
+    bool bad_ = false;
+};
+
+}  // namespace
+
+bool parse_velocity_estimate(const std::string& word, VelocityEstimate& out) {
+    if (word == "measured") out = VelocityEstimate::Measured;
+    else if (word == "difference") out = VelocityEstimate::Difference;
+    else if (word == "filtered_difference") out = VelocityEstimate::FilteredDifference;
+    else return false;
+    return true;
+}
+
+const char* velocity_estimate_name(VelocityEstimate v) {
+    switch (v) {
+    case VelocityEstimate::Difference: return "difference";
+    case VelocityEstimate::FilteredDifference: return "filtered_difference";
+    case VelocityEstimate::Measured: break;
+    }
+    return "measured";
+}
+
+void load_drive_text(const std::string& text, const std::string& file, const std::string& base_dir,
+                     MechatronicSpec& spec, std::vector<DriveError>& errors) {
+    Reader(text, file, base_dir, spec, errors).read();
+}
+
+void load_drive_file(const std::string& path, MechatronicSpec& spec, std::vector<DriveError>& errors) {
+    std::string text;
+    if (!read_text_file(path, text)) {
+        errors.push_back({path, 0, "", "cannot open the drive description"});
+        return;
+    }
+    const size_t slash = path.find_last_of('/');
+    load_drive_text(text, path, slash == std::string::npos ? "" : path.substr(0, slash), spec, errors);
+}
+
+}  // namespace mbx

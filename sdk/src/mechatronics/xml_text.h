@@ -1,0 +1,29 @@
+// What the mechatronics XML readers (object library, drive descriptions)
+// share: strict, locale-independent numbers and source lines of nodes, so
+// every error can name the line a user has to fix.
+#pragma once
+#include <pugixml.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mbx {
+
+// A whole, finite number ("1e-3", "+2"; surrounding blanks allowed).
+bool parse_xml_number(const std::string& text, double& out);
+
+// Line of a node, from its byte offset (pugixml keeps offsets, not lines).
+class XmlLines {
+public:
+    explicit XmlLines(const std::string& text);
+    int line(const pugi::xml_node& n) const;
+    int line_at(ptrdiff_t offset) const;
+
+private:
+    std::vector<size_t> newlines_;
+};
+
+// Reads a whole file; false when it cannot be opened.
+bool read_text_file(const std::string& path, std::string& out);
+
+}  // namespace mbx
