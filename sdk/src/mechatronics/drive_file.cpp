@@ -205,8 +205,10 @@ private:
         const double factor = motion_unit_factor(d.motion_unit, known);
         if (!known) error(m, who, "motion unit '" + d.motion_unit + "' is not rad, deg, m or mm");
         std::vector<MotionPoint> points;
+        int elements = 0;
         for (pugi::xml_node p : m.children()) {
             if (p.type() != pugi::node_element) continue;
+            ++elements;
             if (std::string(p.name()) != "point") {
                 error(p, who, "unknown element <" + std::string(p.name()) + "> in a motion (point)");
                 continue;
@@ -224,7 +226,7 @@ private:
             }
             points.push_back(mp);
         }
-        if (points.empty()) error(m, who, "<motion> has no points");
+        if (elements == 0) error(m, who, "<motion> has no points");
         try {
             d.motion = MotionProfile(std::move(points), interpolation);
         } catch (const std::invalid_argument& e) {
