@@ -1,0 +1,111 @@
+// The same drive gives the same effective joint inertia, effort limit and
+// back-EMF damping in every format, each read back by its own consumer:
+// MuJoCo for MJCF, urdfdom (limits, dynamics) and the transmission elements
+// for URDF. The values are compared with each other and with the drive.
+#include <urdf_parser/urdf_parser.h>
+
+#include <pugixml.hpp>
+
+#include "drives_support.h"
+#include "mjcf/mjcf_export.h"
+#include "mujoco_helpers.h"
+#include "urdf/urdf_layout.h"
+
+using namespace mbx;
+
+namespace {
+
+struct Effective {
+    double armature = 0, effort = 0, damping = 0, ratio = 0;
+};
+
+}  // namespace
+
+TEST_CASE("drives: MJCF and URDF give every driven joint the same armature, effort limit and damping") {
+    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/five_axis_arm/five_axis_arm.xml");
+    const Mechanism& m = *t->mechanism;
+    const std::vector<Drive> drives =
+        xtest::resolve_drive_file(m, std::string(MBX_SAMPLES_DIR) + "/mechatronics/five_axis_arm_drives.xml");
+    REQUIRE(drives.size() == 5);
+    mbx_test::TempDir dir("drives_formats");
+    ExportSettings settings;
+    settings.model_name = "arm";
+    settings.drives = drives;
+    xtest::MuJoCoRun run = xtest::load_mjcf(*t, dir, settings);
+    const OutputFiles files = xtest::export_to(*t, dir, MBX_EXPORT_URDF, settings);
+    const OutputFile* urdf_out = xtest::find_file(files, "urdf/arm.urdf");
+    REQUIRE(urdf_out);
+    const urdf::ModelInterfaceSharedPtr urdf_model = urdf::parseURDF(urdf_out->contents);
+    REQUIRE(urdf_model);
+    pugi::xml_document urdf_xml;
+    REQUIRE(urdf_xml.load_string(urdf_out->contents.c_str()));
+    ExportModel em = xtest::export_model(*t, settings);
+    const UrdfLayout layout = plan_urdf(em);
+
+    size_t transmissions = 0;
+    for (pugi::xml_node tr : urdf_xml.child("robot").children("transmission")) {
+        (void)tr;
+        ++transmissions;
+    }
+    CHECK(transmissions == drives.size());
+
+    const mjModel* model = run.model.get();
+    for (const Drive& d : drives) {
+        INFO("drive " << d.name);
+        // MJCF as MuJoCo compiled it.
+        const std::string mj_joint = xtest::mjcf_joint_name(run.layout, d.joint);
+        const int jid = mj_name2id(model, mjOBJ_JOINT, mj_joint.c_str());
+        const int aid = mj_name2id(model, mjOBJ_ACTUATOR, mjcf_actuator_name(mj_joint).c_str());
+        REQUIRE(jid >= 0);
+        REQUIRE(aid >= 0);
+        Effective mj;
+        mj.armature = model->dof_armature[model->jnt_dofadr[jid]];
+        mj.damping = model->dof_damping[model->jnt_dofadr[jid]];
+        mj.ratio = model->actuator_gear[6 * aid];
+        mj.effort = model->actuator_forcerange[2 * aid + 1] * mj.ratio;
+
+        // URDF: limits and dynamics through urdfdom, the transmission as XML
+        // (urdfdom does not read transmissions); Drake's convention puts
+        // rotor_inertia * gear_ratio^2 on the joint.
+        const std::string& u_joint = layout.joint_name[size_t(d.joint)];
+        const urdf::JointConstSharedPtr joint = urdf_model->getJoint(u_joint);
+        REQUIRE(joint);
+        REQUIRE(joint->limits);
+        REQUIRE(joint->dynamics);
+        Effective ur;
+        ur.effort = joint->limits->effort;
+        ur.damping = joint->dynamics->damping;
+        const pugi::xml_node tr = urdf_xml.child("robot").find_child([&](pugi::xml_node n) {
+            return std::string(n.name()) == "transmission" &&
+                   n.child("joint").attribute("name").as_string() == u_joint;
+        });
+        REQUIRE(tr);
+        CHECK(std::string(tr.child_value("type")) == "transmission_interface/SimpleTransmission");
+        const pugi::xml_node actuator = tr.child("actuator");
+        ur.ratio = actuator.child("mechanicalReduction").text().as_double();
+        CHECK(actuator.child("drake:gear_ratio").attribute("value").as_double() == doctest::Approx(ur.ratio).epsilon(1e-12));
+        const double rotor = actuator.child("drake:rotor_inertia").attribute("value").as_double();
+        ur.armature = rotor * ur.ratio * ur.ratio;
+        CHECK(joint->limits->velocity == doctest::Approx(d.velocity_limit).epsilon(1e-12));
+
+        for (const Effective* e : {&mj, &ur}) {
+            CHECK(e->armature == doctest::Approx(d.armature).epsilon(1e-12));
+            CHECK(e->effort == doctest::Approx(d.effort_limit).epsilon(1e-12));
+            CHECK(e->damping == doctest::Approx(d.servo.emf_damping).epsilon(1e-12));
+            CHECK(e->ratio == doctest::Approx(d.ratio).epsilon(1e-12));
+        }
+    }
+}
+
+TEST_CASE("drives: a model without drives exports no actuators or transmissions") {
+    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/five_axis_arm/five_axis_arm.xml");
+    mbx_test::TempDir dir("drives_none");
+    xtest::MuJoCoRun run = xtest::load_mjcf(*t, dir);
+    CHECK(run.model->nu == 0);
+    for (int d = 0; d < run.model->nv; ++d) {
+        CHECK(run.model->dof_armature[d] == 0);
+        CHECK(run.model->dof_damping[d] == 0);
+    }
+    const OutputFiles files = xtest::export_to(*t, dir, MBX_EXPORT_URDF);
+    for (const OutputFile& f : files) CHECK(f.contents.find("<transmission") == std::string::npos);
+}
