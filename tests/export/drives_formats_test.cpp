@@ -6,6 +6,9 @@
 
 #include <pugixml.hpp>
 
+#include <fstream>
+#include <sstream>
+
 #include "drives_support.h"
 #include "mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
@@ -108,4 +111,58 @@ TEST_CASE("drives: a model without drives exports no actuators or transmissions"
     }
     const OutputFiles files = xtest::export_to(*t, dir, MBX_EXPORT_URDF);
     for (const OutputFile& f : files) CHECK(f.contents.find("<transmission") == std::string::npos);
+}
+
+TEST_CASE("drives: a changed and re-exported CAD model keeps its drives on the same joints") {
+    // The CAD model changes: the joints are written in reverse order and a
+    // part gets heavier. The drive description, keyed by constraint ids,
+    // applies unchanged.
+    const std::string xml_path = std::string(MBX_SAMPLES_DIR) + "/five_axis_arm/five_axis_arm.xml";
+    const std::string drives_path = std::string(MBX_SAMPLES_DIR) + "/mechatronics/five_axis_arm_drives.xml";
+    auto before = xtest::translate_file(xml_path);
+    const std::vector<Drive> original = xtest::resolve_drive_file(*before->mechanism, drives_path);
+
+    std::string xml;
+    {
+        std::ifstream in(xml_path);
+        std::stringstream s;
+        s << in.rdbuf();
+        xml = s.str();
+    }
+    const size_t open = xml.find("<joints>") + std::string("<joints>").size();
+    const size_t close = xml.find("</joints>");
+    REQUIRE(open < close);
+    std::vector<std::string> joints;
+    for (size_t at = xml.find("<SimpleJoint>", open); at < close; at = xml.find("<SimpleJoint>", at + 1)) {
+        const size_t end = xml.find("</SimpleJoint>", at) + std::string("</SimpleJoint>").size();
+        joints.push_back(xml.substr(at, end - at));
+    }
+    REQUIRE(joints.size() >= 5);
+    std::string reversed = "\n";
+    for (auto it = joints.rbegin(); it != joints.rend(); ++it) reversed += *it + "\n";
+    xml = xml.substr(0, open) + reversed + xml.substr(close);
+    const size_t mass = xml.find("<mass>");
+    REQUIRE(mass != std::string::npos);
+    xml.insert(mass + std::string("<mass>").size(), "1");  // "3.2" -> "13.2": a heavier part
+
+    mbx_test::TempDir dir("drives_cad_change");
+    // The sample's VRML and mesh files are not needed: the XML names none.
+    { std::ofstream(dir.file("five_axis_arm.xml")) << xml; }
+    auto after = xtest::translate_file(dir.file("five_axis_arm.xml"));
+    const Mechanism& m2 = *after->mechanism;
+    const std::vector<Drive> again = xtest::resolve_drive_file(m2, drives_path);
+    REQUIRE(again.size() == original.size());
+    const Mechanism& m1 = *before->mechanism;
+    bool some_joint_moved = false;
+    for (size_t i = 0; i < again.size(); ++i) {
+        const Joint& j1 = m1.joints[size_t(original[i].joint)];
+        const Joint& j2 = m2.joints[size_t(again[i].joint)];
+        CHECK(m2.assembly.constraints[size_t(j2.constraint)].id == m1.assembly.constraints[size_t(j1.constraint)].id);
+        CHECK(j2.name == j1.name);
+        some_joint_moved = some_joint_moved || original[i].joint != again[i].joint;
+        CHECK(again[i].armature == original[i].armature);
+        CHECK(again[i].effort_limit == original[i].effort_limit);
+    }
+    // Reversing the file really did reorder the joints the drives land on.
+    CHECK(some_joint_moved);
 }
