@@ -10,6 +10,9 @@
 #include "assembly_builder.h"
 #include "core/progress.h"
 #include "mechatronics/drive_file.h"
+#include "report/report.h"
+
+#include <nlohmann/json.hpp>
 #include "translator/translate.h"
 
 using namespace mbx;
@@ -311,4 +314,32 @@ TEST_CASE("drives: integral action, sampling and delay are named where a servo e
     CHECK(d[0].servo.approximation.find("integral action") != std::string::npos);
     CHECK(d[0].servo.approximation.find("sampled at 0.001 s") != std::string::npos);
     CHECK(d[0].servo.approximation.find("delay of 0.002 s") != std::string::npos);
+}
+
+TEST_CASE("drives: the report lists each drive with its joint quantities, and only when there are drives") {
+    std::vector<DriveError> errors;
+    const std::vector<Drive> drives = resolve("<drive name=\"servo\" constraint=\"R1\" motor=\"" + kKrs + "\">\n"
+                                              "<controller kp=\"50\" kd=\"0.1\"/>\n"
+                                              "<motion><point t=\"0\" q=\"0\"/><point t=\"2\" q=\"1\"/></motion>\n"
+                                              "</drive>\n",
+                                              errors);
+    REQUIRE(drives.size() == 1);
+    const std::unique_ptr<Mechanism> m = test_mechanism();
+    const nlohmann::json with = nlohmann::json::parse(report_json(*m, &drives));
+    REQUIRE(with.contains("drives"));
+    REQUIRE(with["drives"].size() == 1);
+    const nlohmann::json& d = with["drives"][0];
+    CHECK(d["name"] == "servo");
+    CHECK(d["constraint_id"] == "R1");
+    CHECK(d["motor"] == "KRS-784ICS");
+    CHECK(d["armature"].get<double>() == drives[0].armature);
+    CHECK(d["effort_limit"].get<double>() == drives[0].effort_limit);
+    CHECK(d["servo"]["emf_damping"].get<double>() == drives[0].servo.emf_damping);
+    CHECK(d["motion"]["points"].size() == 2);
+    CHECK(d["motion"]["points"][1][1].get<double>() == 1);
+    CHECK(report_text(*m, &drives).find("'servo': KRS-784ICS, ratio 251") != std::string::npos);
+
+    const nlohmann::json without = nlohmann::json::parse(report_json(*m));
+    CHECK_FALSE(without.contains("drives"));
+    CHECK(report_text(*m).find("Drives (") == std::string::npos);
 }

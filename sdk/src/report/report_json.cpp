@@ -13,6 +13,14 @@
 //   tree [for body i: the child bodies of its tree joints, in joint order],
 //   loops [{index, cut_joint, joints, signs, dof, gruebler_dof, redundant,
 //     planar, planar_normal}],
+//   drives [{name, joint, constraint_id, primitive_index, motor, transmission,
+//     linear, ratio, efficiency, armature, effort_limit, velocity_limit,
+//     output_limit, motor_constants {torque_constant, stall_torque,
+//     no_load_speed, rotor_inertia, resistance, inductance},
+//     servo {stiffness, damping, emf_damping, approximation},
+//     controller {amplifier, amplifier_gain, kp, ki, kd, kv, kvi,
+//     sample_period, delay}, motion {interpolation, points [[t, q]..]}}]
+//     (only when the mechanism has drives),
 //   findings [{severity, code, subject {kind, id, name}, message}]
 #include "report/json_writer.h"
 #include "report/report.h"
@@ -190,6 +198,57 @@ void write_loops(JsonWriter& w, const Mechanism& m) {
     w.end_array();
 }
 
+const char* interpolation_name(Interpolation i) {
+    switch (i) {
+    case Interpolation::Smooth: return "smooth";
+    case Interpolation::Step: return "step";
+    case Interpolation::Linear: break;
+    }
+    return "linear";
+}
+
+void write_drives(JsonWriter& w, const Mechanism& m, const std::vector<Drive>& drives) {
+    w.key("drives").begin_array();
+    for (const Drive& d : drives) {
+        const Joint& j = m.joints[static_cast<std::size_t>(d.joint)];
+        w.begin_object();
+        w.member("name", d.name).member("joint", d.joint);
+        w.member("constraint_id", m.assembly.constraints[static_cast<std::size_t>(j.constraint)].id);
+        w.member("primitive_index", j.primitive_index);
+        w.member("motor", d.motor_name).member("transmission", d.transmission_name).member("linear", d.linear);
+        w.member("ratio", d.ratio).member("efficiency", d.efficiency).member("armature", d.armature);
+        w.member("effort_limit", d.effort_limit).member("velocity_limit", d.velocity_limit);
+        w.member("output_limit", d.output_limit);
+        w.key("motor_constants").begin_object(Layout::Inline);
+        w.member("torque_constant", d.motor.torque_constant).member("stall_torque", d.motor.stall_torque);
+        w.member("no_load_speed", d.motor.no_load_speed).member("rotor_inertia", d.motor.rotor_inertia);
+        w.member("resistance", d.armature_resistance).member("inductance", d.armature_inductance);
+        w.end_object();
+        w.key("servo").begin_object(Layout::Inline);
+        w.member("stiffness", d.servo.stiffness).member("damping", d.servo.damping);
+        w.member("emf_damping", d.servo.emf_damping).member("approximation", d.servo.approximation);
+        w.end_object();
+        const ControllerSpec& c = d.spec.controller;
+        w.key("controller").begin_object(Layout::Inline);
+        w.member("amplifier", d.spec.amplifier.mode == AmplifierMode::Current ? "current" : "voltage");
+        w.member("amplifier_gain", d.spec.amplifier.gain);
+        w.member("kp", c.kp).member("ki", c.ki).member("kd", c.kd).member("kv", c.kv).member("kvi", c.kvi);
+        w.member("sample_period", c.sample_period).member("delay", c.delay);
+        w.end_object();
+        w.key("motion").begin_object();
+        w.member("interpolation", interpolation_name(d.spec.motion.interpolation()));
+        w.key("points").begin_array();
+        for (const MotionPoint& p : d.spec.motion.points()) {
+            const double tq[2] = {p.time, p.value};
+            w.number_array(tq, 2);
+        }
+        w.end_array();
+        w.end_object();
+        w.end_object();
+    }
+    w.end_array();
+}
+
 void write_findings(JsonWriter& w, const Mechanism& m) {
     w.key("findings").begin_array();
     for (const Finding& f : m.findings) {
@@ -222,7 +281,7 @@ std::size_t estimated_size(const Mechanism& m) {
 
 }  // namespace
 
-std::string report_json(const Mechanism& m) {
+std::string report_json(const Mechanism& m, const std::vector<Drive>* drives) {
     JsonWriter w(estimated_size(m));
     w.begin_object();
     w.member("mbx_version", MBX_VERSION_STRING);
@@ -233,6 +292,7 @@ std::string report_json(const Mechanism& m) {
     write_joints(w, m);
     write_tree(w, m);
     write_loops(w, m);
+    if (drives && !drives->empty()) write_drives(w, m, *drives);
     write_findings(w, m);
     w.end_object();
     std::string text = w.take();

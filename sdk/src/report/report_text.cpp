@@ -285,6 +285,23 @@ void write_shape_checks(Text& t, const Mechanism& m) {
     t.blank();
 }
 
+// One line per drive: what it amounts to at its joint.
+void write_drives(Text& t, const std::vector<Drive>& drives) {
+    t.raw("Drives (").num(static_cast<long long>(drives.size())).raw(")").end_line();
+    for (const Drive& d : drives) {
+        const char* effort = d.linear ? " N" : " N m";
+        t.raw("  ").quoted(d.name).raw(": ").str(d.motor_name);
+        if (!d.transmission_name.empty()) t.raw(" + ").str(d.transmission_name);
+        t.raw(", ratio ").real(d.ratio).raw(", armature ").real(d.armature).raw(d.linear ? " kg" : " kg m^2");
+        t.raw(", effort limit ").real(d.effort_limit).raw(effort).raw(", speed limit ").real(d.velocity_limit);
+        t.raw(d.linear ? " m/s" : " rad/s").raw(", servo K ").real(d.servo.stiffness).raw(" D ");
+        t.real(d.servo.damping + d.servo.emf_damping).raw(", ");
+        t.num(static_cast<long long>(d.spec.motion.points().size())).raw(" motion points");
+        t.end_wrapped(4);
+    }
+    t.blank();
+}
+
 void write_findings(Text& t, const Mechanism& m, const Counts& c) {
     t.raw("Findings (").num(static_cast<long long>(m.findings.size())).raw(")").end_line();
     if (m.findings.empty()) t.raw("  none").end_line();
@@ -321,7 +338,7 @@ std::size_t estimated_size(const Mechanism& m) {
 
 }  // namespace
 
-std::string report_text(const Mechanism& m) {
+std::string report_text(const Mechanism& m, const std::vector<Drive>* drives) {
     const Counts c = count(m);
     Text t(estimated_size(m));
     write_header(t, m, c);
@@ -331,6 +348,7 @@ std::string report_text(const Mechanism& m) {
     write_loops(t, m);
     t.blank();
     write_shape_checks(t, m);
+    if (drives && !drives->empty()) write_drives(t, *drives);
     write_findings(t, m, c);
     return t.take();
 }
