@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <set>
+#include <unordered_map>
 
 #include "translator/mechanism.h"
 
@@ -113,16 +113,18 @@ ServoEquivalent servo_equivalent(const Drive& d) {
 
 std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& m, std::vector<DriveError>& errors) {
     std::vector<Drive> out;
-    // (constraint id, primitive) -> joint, built once: lookups stay cheap on large assemblies.
-    std::map<std::string, std::vector<int>> joints_of;
+    out.reserve(spec.drives.size());
+    // Constraint id -> its joints (empty for welds merged away), hashed once:
+    // lookups stay flat on large assemblies.
+    std::unordered_map<std::string, std::vector<int>> joints_of;
+    joints_of.reserve(m.assembly.constraints.size());
+    for (const Constraint& c : m.assembly.constraints) joints_of[c.id];
     for (size_t j = 0; j < m.joints.size(); ++j) {
         const Joint& joint = m.joints[j];
         if (joint.constraint < 0) continue;
         joints_of[m.assembly.constraints[size_t(joint.constraint)].id].push_back(int(j));
     }
-    std::set<std::string> constraint_ids;
-    for (const Constraint& c : m.assembly.constraints) constraint_ids.insert(c.id);
-    std::set<int> driven;
+    std::vector<char> driven(m.joints.size(), 0);
     for (const DriveSpec& s : spec.drives) {
         const std::string who = s.name.empty() ? s.joint.constraint_id : s.name;
         bool good = true;
@@ -135,18 +137,17 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
         Drive d;
         d.spec = s;
         const auto it = joints_of.find(s.joint.constraint_id);
-        if (!constraint_ids.count(s.joint.constraint_id)) {
+        if (it == joints_of.end()) {
             error("no constraint with id '" + s.joint.constraint_id + "' in the assembly");
             continue;
         }
         std::vector<int> candidates;
-        if (it != joints_of.end())
-            for (int j : it->second) {
-                const Joint& joint = m.joints[size_t(j)];
-                if (s.joint.primitive >= 0 ? joint.primitive_index == s.joint.primitive
-                                           : joint.type == MBX_PRIMITIVE_REVOLUTE || joint.type == MBX_PRIMITIVE_PRISMATIC)
-                    candidates.push_back(j);
-            }
+        for (int j : it->second) {
+            const Joint& joint = m.joints[size_t(j)];
+            if (s.joint.primitive >= 0 ? joint.primitive_index == s.joint.primitive
+                                       : joint.type == MBX_PRIMITIVE_REVOLUTE || joint.type == MBX_PRIMITIVE_PRISMATIC)
+                candidates.push_back(j);
+        }
         if (candidates.empty()) {
             error(joint_text(s.joint) + " has no " +
                   (s.joint.primitive >= 0 ? "such primitive joint (welds are merged away)"
@@ -170,10 +171,11 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
             error("joint '" + joint.name + "' closes a loop (cut joint): drive a tree joint of the loop instead");
             continue;
         }
-        if (!driven.insert(d.joint).second) {
+        if (driven[size_t(d.joint)]) {
             error("joint '" + joint.name + "' is driven twice");
             continue;
         }
+        driven[size_t(d.joint)] = 1;
         d.linear = joint.type == MBX_PRIMITIVE_PRISMATIC;
         const bool angle_unit = s.motion_unit == "rad" || s.motion_unit == "deg";
         const bool length_unit = s.motion_unit == "m" || s.motion_unit == "mm";

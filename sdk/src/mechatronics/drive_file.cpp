@@ -3,8 +3,10 @@
 #include <pugixml.hpp>
 
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <set>
+#include <unordered_map>
 #include <stdexcept>
 
 #include "mechatronics/xml_text.h"
@@ -60,6 +62,8 @@ public:
         check_attributes(root, "");
         const std::string version = root.attribute("version").as_string("1");
         if (version != "1") error(root, "", "unsupported version '" + version + "' (this mbx reads version 1)");
+        spec_.drives.reserve(spec_.drives.size() +
+                             size_t(std::distance(root.children("drive").begin(), root.children("drive").end())));
         for (pugi::xml_node n : root.children()) {
             if (n.type() != pugi::node_element) continue;
             const std::string name = n.name();
@@ -205,6 +209,7 @@ private:
         const double factor = motion_unit_factor(d.motion_unit, known);
         if (!known) error(m, who, "motion unit '" + d.motion_unit + "' is not rad, deg, m or mm");
         std::vector<MotionPoint> points;
+        points.reserve(size_t(std::distance(m.children("point").begin(), m.children("point").end())));
         int elements = 0;
         for (pugi::xml_node p : m.children()) {
             if (p.type() != pugi::node_element) continue;
@@ -239,7 +244,7 @@ private:
     XmlLines lines_;
     MechatronicSpec& spec_;
     std::vector<DriveError>& errors_;
-    std::map<std::string, int> seen_;  // joint key -> line of its drive
+    std::unordered_map<std::string, int> seen_;  // joint key -> line of its drive
     bool bad_ = false;
 };
 
