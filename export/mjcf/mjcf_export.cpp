@@ -184,9 +184,6 @@ private:
                     model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(j.joint),
                                 "MJCF: " + what + " is a motor actuator; its controller (" +
                                     d->servo.approximation + ") must run outside MuJoCo");
-                else if (!d->servo.approximation.empty())
-                    model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(j.joint),
-                                "MJCF: " + what + " is a PD servo: " + d->servo.approximation);
             }
     }
 

@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
     } samples[] = {{"fourbar_imperial", mbx_samples::make_fourbar_imperial},
                    {"double_cardan", mbx_samples::make_double_cardan},
                    {"five_axis_arm", mbx_samples::make_five_axis_arm},
-                   {"joints_showcase", mbx_samples::make_joints_showcase}};
+                   {"joints_showcase", mbx_samples::make_joints_showcase},
+                   {"emps_axis", mbx_samples::make_emps_axis}};
     try {
         for (const auto& s : samples) {
             const std::string dir = root + "/" + s.name;

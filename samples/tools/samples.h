@@ -9,5 +9,6 @@ void make_fourbar_imperial(const std::string& directory);
 void make_double_cardan(const std::string& directory);
 void make_five_axis_arm(const std::string& directory);
 void make_joints_showcase(const std::string& directory);
+void make_emps_axis(const std::string& directory);
 
 }  // namespace mbx_samples

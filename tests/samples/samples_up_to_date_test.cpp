@@ -49,4 +49,5 @@ TEST_CASE("committed samples match mbx_make_samples") {
     check_folder("double_cardan", mbx_samples::make_double_cardan);
     check_folder("five_axis_arm", mbx_samples::make_five_axis_arm);
     check_folder("joints_showcase", mbx_samples::make_joints_showcase);
+    check_folder("emps_axis", mbx_samples::make_emps_axis);
 }

@@ -312,7 +312,7 @@ TEST_CASE("drives: integral action, sampling and delay are named where a servo e
                                          errors);
     REQUIRE(d.size() == 1);
     CHECK(d[0].servo.approximation.find("integral action") != std::string::npos);
-    CHECK(d[0].servo.approximation.find("sampled at 0.001 s") != std::string::npos);
+    CHECK(d[0].servo.approximation.find("sampling at 0.001 s") != std::string::npos);
     CHECK(d[0].servo.approximation.find("delay of 0.002 s") != std::string::npos);
 }
 

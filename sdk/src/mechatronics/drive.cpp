@@ -103,8 +103,8 @@ ServoEquivalent servo_equivalent(const Drive& d) {
     std::string why;
     auto add = [&why](const std::string& part) { why += (why.empty() ? "" : ", ") + part; };
     if (c.ki > 0 || c.kvi > 0) add("integral action left out");
-    if (c.sample_period > 0) add("sampled at " + short_number(c.sample_period) + " s, taken as continuous");
-    if (c.delay > 0) add("transport delay of " + short_number(c.delay) + " s left out");
+    if (c.sample_period > 0) add("sampling at " + short_number(c.sample_period) + " s");
+    if (c.delay > 0) add("a transport delay of " + short_number(c.delay) + " s");
     // The armature inductance is always neglected: La/Ra is microseconds for
     // the motors this serves, far below any mechanical time constant.
     s.approximation = why;

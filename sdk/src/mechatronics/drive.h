@@ -96,8 +96,8 @@ struct ServoEquivalent {
     double damping = 0;      // N m s/rad or N s/m, from kd and the velocity loop
     double emf_damping = 0;  // idem
     double effort_limit = 0; // N m or N, at the joint
-    // Why the drive is not exactly this servo ("" if it is, La aside): integral
-    // action, sampling, delay.
+    // What of the drive this servo leaves out ("" if nothing, La aside):
+    // integral action, sampling, a transport delay.
     std::string approximation;
 };
 
