@@ -131,3 +131,45 @@ TEST_CASE("cli: mbx library shows derived motor constants, and names file and li
     CHECK(bad.err.find(dir.file("bad.xml") + ":4: C: parameter 'x' has unknown unit 'furlong'") != std::string::npos);
     CHECK(run_cli(dir, "library").code == 2);
 }
+
+TEST_CASE("cli: --drives exports the arm with its drives in every format; a bad drive file writes nothing") {
+    atest::TempDir dir;
+    const std::string arm = std::string(MBX_SAMPLES_DIR) + "/five_axis_arm/five_axis_arm.xml";
+    const std::string drives = std::string(MBX_SAMPLES_DIR) + "/mechatronics/five_axis_arm_drives.xml";
+    const Run r = run_cli(dir, "translate '" + arm + "' --drives '" + drives + "' --name arm -o '" + dir.file("out") + "'");
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("drive waist: RE40-class 150 W 48 V + Strain-wave 100:1, ratio 100") != std::string::npos);
+    CHECK(r.out.find("drive wrist_roll: KRS-784ICS, ratio 251") != std::string::npos);
+    const std::string mjcf = atest::read_file(dir.file("out/mjcf/arm.xml"));
+    size_t actuators = 0;
+    for (size_t at = mjcf.find("<general "); at != std::string::npos; at = mjcf.find("<general ", at + 1)) ++actuators;
+    CHECK(actuators == 5);
+    const std::string urdf = atest::read_file(dir.file("out/urdf/arm.urdf"));
+    size_t transmissions = 0;
+    for (size_t at = urdf.find("<transmission "); at != std::string::npos; at = urdf.find("<transmission ", at + 1))
+        ++transmissions;
+    CHECK(transmissions == 5);
+    CHECK(std::filesystem::exists(dir.file("out/modelica/Arm/Mechatronic.mo")));
+    CHECK(atest::read_file(dir.file("out/report.json")).find("\"drives\"") != std::string::npos);
+
+    // A drive file with a typo: file, line and drive on stderr, exit 1, no output.
+    atest::write_file(dir.file("bad.xml"),
+                      "<mechatronics>\n<drive name=\"waist\" constraint=\"40:-:41\" motor=\"X\">\n"
+                      "<controller kp=\"1\" kdd=\"2\"/>\n</drive>\n</mechatronics>\n");
+    const Run bad = run_cli(dir, "translate '" + arm + "' --drives '" + dir.file("bad.xml") + "' -o '" + dir.file("out2") + "'");
+    CHECK(bad.code == 1);
+    CHECK(bad.err.find(dir.file("bad.xml") + ":3: waist: unknown attribute 'kdd' on <controller>") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("out2")));
+
+    // A drive that does not fit the mechanism: the constraint id names the problem.
+    atest::write_file(dir.file("misfit.xml"),
+                      "<mechatronics>\n<library file=\"" + std::string(MBX_SAMPLES_DIR) +
+                          "/library/mbx_object_library.xml\"/>\n"
+                          "<drive constraint=\"99:-:98\" motor=\"628F99AAAA7444D5A2A36A6FA1175594\">\n"
+                          "<controller kp=\"1\"/>\n</drive>\n</mechatronics>\n");
+    const Run misfit =
+        run_cli(dir, "translate '" + arm + "' --drives '" + dir.file("misfit.xml") + "' -o '" + dir.file("out3") + "'");
+    CHECK(misfit.code == 1);
+    CHECK(misfit.err.find(dir.file("misfit.xml") + ":3: 99:-:98: no constraint with id '99:-:98'") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("out3/report.json")));
+}
