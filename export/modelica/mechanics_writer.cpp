@@ -57,6 +57,8 @@ public:
         : model_(model), m_(model.mechanism()), package_(package) {}
 
     ModelicaModel build();
+    // After build(): each joint's flange names ("" when it has none).
+    std::vector<JointFlanges> flanges() const;
 
 private:
     std::string claim(const std::string& base, const char* fallback);
@@ -510,15 +512,23 @@ ModelicaModel MechanicsBuilder::build() {
     return std::move(out_);
 }
 
+std::vector<JointFlanges> MechanicsBuilder::flanges() const {
+    std::vector<JointFlanges> out(flange_name_.size());
+    for (size_t j = 0; j < flange_name_.size(); ++j) out[j] = {flange_name_[j][0], flange_name_[j][1]};
+    return out;
+}
+
 }  // namespace
 
 std::string modelica_mesh_path(ExportModel& model, int body) {
     return "Resources/Meshes/" + model.mesh_stem(body) + ".stl";
 }
 
-std::string write_mechanics(ExportModel& model, const std::string& package) {
+std::string write_mechanics(ExportModel& model, const std::string& package, std::vector<JointFlanges>* flanges) {
     MechanicsBuilder builder(model, package);
-    return format_model(builder.build());
+    std::string text = format_model(builder.build());
+    if (flanges) *flanges = builder.flanges();
+    return text;
 }
 
 }  // namespace mbx

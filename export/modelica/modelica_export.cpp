@@ -2,7 +2,9 @@
 
 #include "common/number_text.h"
 #include "mesh/mesh_export.h"
+#include "modelica/drive_blocks.h"
 #include "modelica/mechanics_writer.h"
+#include "modelica/mechatronic_writer.h"
 #include "modelica/modelica_text.h"
 
 namespace mbx {
@@ -19,14 +21,20 @@ std::string package_file(const std::string& package, const ExportSettings& setti
            "end " + package + ";\n";
 }
 
-std::string user_model_file(const std::string& package, const ExportSettings& settings) {
-    const double stop = settings.stop_time > 0 ? settings.stop_time : 10;
-    return "// Your model: mbx writes this file once and never overwrites it.\n"
-           "// Mechanics.mo is regenerated on every export; add your components and\n"
-           "// equations here (actuators on the axis_*/support_* flanges, sensors, ...).\n"
-           "within " + package + ";\n"
-           "model UserModel \"Mechanics of '" + package + "' plus your additions\"\n"
-           "  extends " + package + ".Mechanics;\n"
+std::string user_model_file(const std::string& package, const ExportSettings& settings, double stop_time,
+                            bool mechatronic) {
+    const double stop = stop_time > 0 ? stop_time : settings.stop_time > 0 ? settings.stop_time : 10;
+    const std::string head =
+        mechatronic ? "// Your model: mbx writes this file once and never overwrites it.\n"
+                      "// Mechanics.mo and Mechatronic.mo (the drives on Mechanics) are regenerated on\n"
+                      "// every export; add your components and equations here.\n"
+                    : "// Your model: mbx writes this file once and never overwrites it.\n"
+                      "// Mechanics.mo is regenerated on every export; add your components and\n"
+                      "// equations here (actuators on the axis_*/support_* flanges, sensors, ...).\n";
+    const std::string base = mechatronic ? "Mechatronic" : "Mechanics";
+    return head + "within " + package + ";\n" + "model UserModel \"" + base + " of '" + package +
+           "' plus your additions\"\n"
+           "  extends " + package + "." + base + ";\n"
            "  annotation(experiment(StopTime = " + number_text(stop) + ", Interval = " + number_text(stop / 500) +
            ", Tolerance = 1e-06));\n"
            "end UserModel;\n";
@@ -39,10 +47,26 @@ void export_modelica(ExportModel& model, OutputFiles& out) {
     const std::string package = modelica_package_name(settings.model_name);
     const std::string dir = "modelica/" + package + "/";
 
+    std::vector<JointFlanges> flanges;
+    std::string mechanics = write_mechanics(model, package, &flanges);
+    // The drives, when there are any, as a model of their own around Mechanics.
+    MechatronicModel mechatronic;
+    if (!settings.drives.empty()) mechatronic = write_mechatronic(model, package, flanges);
+    const bool drives = !mechatronic.text.empty();
+
     out.push_back({dir + "package.mo", package_file(package, settings)});
-    out.push_back({dir + "package.order", "Mechanics\nUserModel\n"});
-    out.push_back({dir + "Mechanics.mo", write_mechanics(model, package)});
-    OutputFile user{dir + "UserModel.mo", user_model_file(package, settings)};
+    out.push_back({dir + "package.order", drives ? std::string("Mechanics\n") + kDiscreteControllerBlock + "\n" +
+                                                       kSmoothTargetBlock + "\nMechatronic\nUserModel\n"
+                                                 : std::string("Mechanics\nUserModel\n")});
+    out.push_back({dir + "Mechanics.mo", std::move(mechanics)});
+    if (drives) {
+        // Both helper blocks are written whenever there are drives, so the
+        // package's layout does not depend on which controllers are used.
+        out.push_back({dir + kDiscreteControllerBlock + ".mo", discrete_controller_block(package)});
+        out.push_back({dir + kSmoothTargetBlock + ".mo", smooth_target_block(package)});
+        out.push_back({dir + "Mechatronic.mo", std::move(mechatronic.text)});
+    }
+    OutputFile user{dir + "UserModel.mo", user_model_file(package, settings, mechatronic.stop_time, drives)};
     user.keep_existing = true;
     out.push_back(std::move(user));
 

@@ -106,7 +106,7 @@ std::vector<Token> tokenize(const std::string& s, std::vector<std::string>& erro
             if (!closed) errors.push_back("unterminated string");
             t.end = i;
             out.push_back(t);
-        } else if (std::string("(){}[],;=.-+*/:<>").find(c) != std::string::npos) {
+        } else if (std::string("(){}[],;=.-+*/:<>^").find(c) != std::string::npos) {
             out.push_back({Token::Punct, std::string(1, c), i, i + 1});
             ++i;
         } else {
@@ -117,6 +117,8 @@ std::vector<Token> tokenize(const std::string& s, std::vector<std::string>& erro
     out.push_back({Token::End, {}, s.size(), s.size()});
     return out;
 }
+
+bool is_keyword(const std::string& w);
 
 class Parser {
 public:
@@ -130,12 +132,22 @@ public:
             model_.within = dotted();
             expect(";");
         }
-        if (!is_ident("model")) return fail("expected 'model'");
-        next();
+        if (!is_ident("model") && !is_ident("block")) return fail("expected 'model' or 'block'");
+        model_.kind = next().text;
         model_.name = ident();
         if (peek().kind == Token::String) model_.description = next().text;
         bool equations = false;
         while (peek().kind != Token::End) {
+            if (is_ident("algorithm")) {
+                next();
+                algorithm_section();
+                equations = false;
+                continue;
+            }
+            if (!equations && (is_ident("protected") || is_ident("public"))) {
+                protected_ = next().text == "protected";
+                continue;
+            }
             if (is_ident("end")) {
                 next();
                 const std::string name = ident();
@@ -219,15 +231,102 @@ private:
         fail("unbalanced '('");
         return {};
     }
+    // Text inside a balanced "[ ... ]"; the brackets are consumed.
+    std::string bracketed() {
+        const size_t open = next().end;
+        int depth = 1;
+        while (peek().kind != Token::End) {
+            if (is_punct("[")) ++depth;
+            if (is_punct("]") && --depth == 0) {
+                const std::string inside = src_.substr(open, peek().begin - open);
+                next();
+                return trim(inside);
+            }
+            next();
+        }
+        fail("unbalanced '['");
+        return {};
+    }
+    // A connector reference: a.b.c, each identifier with optional subscripts ("table.y[1]").
+    std::string reference() {
+        std::string s = ident();
+        while (true) {
+            if (is_punct("[")) {
+                s += "[" + bracketed() + "]";
+            } else if (is_punct(".")) {
+                next();
+                s += "." + ident();
+            } else {
+                return s;
+            }
+        }
+    }
+    // Statements up to the next section or the end of the class, read as
+    // tokens: when/if/for/while that open a statement must close with their
+    // own `end`, and every name used is collected.
+    void algorithm_section() {
+        const size_t start = peek().begin;
+        std::vector<std::string> open;
+        bool statement_start = true;
+        const Token* previous = nullptr;
+        while (peek().kind != Token::End) {
+            const Token& t = peek();
+            if (t.kind == Token::Ident) {
+                if (t.text == "end" && open.empty() && pos_ + 2 < tokens_.size() &&
+                    tokens_[pos_ + 1].text == model_.name && tokens_[pos_ + 2].text == ";")
+                    break;
+                if (open.empty() && (t.text == "equation" || t.text == "algorithm" || t.text == "protected" ||
+                                     t.text == "public" || t.text == "annotation"))
+                    break;
+                if (t.text == "end") {
+                    next();
+                    const std::string what = peek().kind == Token::Ident ? peek().text : std::string();
+                    if (open.empty() || open.back() != what)
+                        model_.errors.push_back("'end " + what + "' closes nothing open at offset " +
+                                                std::to_string(peek().begin));
+                    else
+                        open.pop_back();
+                    next();
+                    previous = nullptr;
+                    statement_start = false;
+                    continue;
+                }
+                if (statement_start && (t.text == "when" || t.text == "if" || t.text == "for" || t.text == "while"))
+                    open.push_back(t.text);
+                if (t.text == "for") {
+                    next();
+                    if (peek().kind == Token::Ident) model_.loop_variables.insert(peek().text);
+                    previous = &t;
+                    statement_start = false;
+                    continue;
+                }
+                const bool member = previous && previous->kind == Token::Punct && previous->text == ".";
+                if (!member && !is_keyword(t.text)) model_.algorithm_names.insert(t.text);
+            }
+            statement_start = (t.kind == Token::Punct && t.text == ";") ||
+                              (t.kind == Token::Ident &&
+                               (t.text == "then" || t.text == "else" || t.text == "loop"));
+            previous = &t;
+            next();
+        }
+        if (!open.empty()) model_.errors.push_back("'" + open.back() + "' without its 'end " + open.back() + "'");
+        model_.algorithm += trim(src_.substr(start, peek().begin - start)) + "\n";
+    }
     // Source text of an expression up to a ',' or ')' at depth 0.
     std::string expression() {
         const size_t start = peek().begin;
         size_t end = start;
         int depth = 0;
+        const Token* previous = nullptr;
         while (peek().kind != Token::End) {
             if (depth == 0 && (is_punct(",") || is_punct(")") || is_punct(";"))) break;
-            if (is_punct("(") || is_punct("{")) ++depth;
-            if (is_punct(")") || is_punct("}")) --depth;
+            // A string right after a complete operand is the description.
+            if (depth == 0 && previous && peek().kind == Token::String &&
+                (previous->kind != Token::Punct || std::string(")}]").find(previous->text) != std::string::npos))
+                break;
+            previous = &peek();
+            if (is_punct("(") || is_punct("{") || is_punct("[")) ++depth;
+            if (is_punct(")") || is_punct("}") || is_punct("]")) --depth;
             end = next().end;
         }
         if (end == start) fail("empty expression");
@@ -235,12 +334,17 @@ private:
     }
     void declaration() {
         Component c;
-        if (is_ident("inner")) {
+        c.is_protected = protected_;
+        static const std::set<std::string> prefixes = {"parameter", "discrete", "constant", "input", "output",
+                                                       "final",     "flow",     "stream",   "outer", "replaceable"};
+        while (peek().kind == Token::Ident && (prefixes.count(peek().text) || peek().text == "inner")) {
+            if (peek().text == "inner") c.inner = true;
+            else c.prefixes.push_back(peek().text);
             next();
-            c.inner = true;
         }
         c.class_name = dotted();
         c.name = ident();
+        if (is_punct("[")) c.dimensions = bracketed();
         if (is_punct("(")) {
             next();
             while (!is_punct(")") && peek().kind != Token::End) {
@@ -259,6 +363,10 @@ private:
             }
             expect(")");
         }
+        if (is_punct("=")) {
+            next();
+            c.binding = expression();
+        }
         if (peek().kind == Token::String) c.description = next().text;
         expect(";");
         model_.components.push_back(std::move(c));
@@ -267,9 +375,9 @@ private:
         if (!is_ident("connect")) return fail("only connect equations are expected");
         next();
         expect("(");
-        const std::string a = dotted();
+        const std::string a = reference();
         expect(",");
-        const std::string b = dotted();
+        const std::string b = reference();
         expect(")");
         expect(";");
         model_.connects.emplace_back(a, b);
@@ -279,6 +387,7 @@ private:
     Model& model_;
     std::vector<Token> tokens_;
     size_t pos_ = 0;
+    bool protected_ = false;
 };
 
 // ---------------------------------------------------------------------------
@@ -293,6 +402,10 @@ const std::string kRotA = "Modelica.Mechanics.Rotational.Interfaces.Flange_a";
 const std::string kRotB = "Modelica.Mechanics.Rotational.Interfaces.Flange_b";
 const std::string kTransA = "Modelica.Mechanics.Translational.Interfaces.Flange_a";
 const std::string kTransB = "Modelica.Mechanics.Translational.Interfaces.Flange_b";
+const std::string kRealIn = "Modelica.Blocks.Interfaces.RealInput";
+const std::string kRealOut = "Modelica.Blocks.Interfaces.RealOutput";
+const std::string kPinP = "Modelica.Electrical.Analog.Interfaces.PositivePin";
+const std::string kPinN = "Modelica.Electrical.Analog.Interfaces.NegativePin";
 
 const std::map<std::pair<std::string, std::string>, std::string>& connector_table() {
     static const std::map<std::pair<std::string, std::string>, std::string> table = [] {
@@ -309,6 +422,45 @@ const std::map<std::pair<std::string, std::string>, std::string>& connector_tabl
         t[{kMB + "Joints.Revolute", "support"}] = kRotB;
         t[{kMB + "Joints.Prismatic", "axis"}] = kTransA;
         t[{kMB + "Joints.Prismatic", "support"}] = kTransB;
+        // Drive components: keyed by the class that declares the connector
+        // (looked up along the component class's extends chain).
+        const std::string rot = "Modelica.Mechanics.Rotational.", trans = "Modelica.Mechanics.Translational.";
+        const std::string blocks = "Modelica.Blocks.", analog = "Modelica.Electrical.Analog.";
+        t[{rot + "Interfaces.PartialTwoFlanges", "flange_a"}] = kRotA;
+        t[{rot + "Interfaces.PartialTwoFlanges", "flange_b"}] = kRotB;
+        t[{rot + "Interfaces.PartialElementaryTwoFlangesAndSupport2", "flange_a"}] = kRotA;
+        t[{rot + "Interfaces.PartialElementaryTwoFlangesAndSupport2", "flange_b"}] = kRotB;
+        t[{rot + "Interfaces.PartialElementaryRotationalToTranslational", "flangeR"}] = kRotA;
+        t[{rot + "Interfaces.PartialElementaryRotationalToTranslational", "flangeT"}] = kTransB;
+        t[{rot + "Interfaces.PartialAbsoluteSensor", "flange"}] = kRotA;
+        t[{trans + "Interfaces.PartialAbsoluteSensor", "flange"}] = kTransA;
+        t[{rot + "Sensors.AngleSensor", "phi"}] = kRealOut;
+        t[{rot + "Sensors.SpeedSensor", "w"}] = kRealOut;
+        t[{trans + "Sensors.PositionSensor", "s"}] = kRealOut;
+        t[{trans + "Sensors.SpeedSensor", "v"}] = kRealOut;
+        t[{analog + "Interfaces.TwoPin", "p"}] = kPinP;
+        t[{analog + "Interfaces.TwoPin", "n"}] = kPinN;
+        for (const char* source : {"Sources.SignalVoltage", "Sources.SignalCurrent", "Basic.RotationalEMF"}) {
+            t[{analog + source, "p"}] = kPinP;
+            t[{analog + source, "n"}] = kPinN;
+        }
+        t[{analog + "Sources.SignalVoltage", "v"}] = kRealIn;
+        t[{analog + "Sources.SignalCurrent", "i"}] = kRealIn;
+        t[{analog + "Basic.RotationalEMF", "flange"}] = kRotB;
+        t[{analog + "Basic.Ground", "p"}] = analog + "Interfaces.Pin";
+        for (const char* siso : {"Interfaces.SISO", "Math.Gain"}) {
+            t[{blocks + siso, "u"}] = kRealIn;
+            t[{blocks + siso, "y"}] = kRealOut;
+        }
+        for (const char* two : {"Interfaces.SI2SO", "Math.Feedback"}) {
+            t[{blocks + two, "u1"}] = kRealIn;
+            t[{blocks + two, "u2"}] = kRealIn;
+            t[{blocks + two, "y"}] = kRealOut;
+        }
+        for (const char* in : {"u1", "u2", "u3"}) t[{blocks + "Math.Add3", in}] = kRealIn;
+        t[{blocks + "Math.Add3", "y"}] = kRealOut;
+        t[{blocks + "Interfaces.SO", "y"}] = kRealOut;
+        t[{blocks + "Interfaces.MO", "y"}] = kRealOut;  // a vector: connected as y[i]
         return t;
     }();
     return table;
@@ -339,6 +491,32 @@ bool valid_identifier(const std::string& s) {
     return !is_keyword(s);
 }
 
+// Where the index's line parser missed an extends clause or filed a class
+// under the wrong package, for the classes the exporter uses (checked against
+// the MSL 4.0.0 sources: IdealGear extends PartialElementaryTwoFlangesAndSupport2,
+// Constant extends Interfaces.SO, CombiTimeTable is Modelica.Blocks.Sources's).
+void patch_index_gaps(std::map<std::string, ClassInfo>& classes) {
+    const auto add_extends = [&](const std::string& cls, const std::string& base) {
+        const auto it = classes.find(cls);
+        if (it == classes.end()) return;
+        std::vector<std::string>& e = it->second.extends;
+        if (std::find(e.begin(), e.end(), base) == e.end()) e.push_back(base);
+    };
+    add_extends("Modelica.Mechanics.Rotational.Components.IdealGear",
+                "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryTwoFlangesAndSupport2");
+    add_extends("Modelica.Blocks.Sources.Constant", "Interfaces.SO");
+    if (!classes.count("Modelica.Blocks.Sources.CombiTimeTable") &&
+        classes.count("Modelica.Blocks.Sources.SineVariableFrequencyAndAmplitude.CombiTimeTable")) {
+        ClassInfo info;
+        info.kind = "block";
+        info.extends = {"Modelica.Blocks.Interfaces.MO"};
+        info.elements = {"tableOnFile", "table",     "tableName",  "fileName",  "verboseRead", "columns",
+                         "smoothness",  "extrapolation", "timeScale", "offset", "startTime",   "shiftTime",
+                         "timeEvents",  "verboseExtrapolation", "t_min", "t_max", "t_minScaled", "t_maxScaled"};
+        classes["Modelica.Blocks.Sources.CombiTimeTable"] = std::move(info);
+    }
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -358,6 +536,7 @@ Index::Index(const std::string& tsv_path) {
         if (f.size() > 3 && !f[3].empty()) info.elements = split(f[3], ',');
         classes_[f[0]] = std::move(info);
     }
+    patch_index_gaps(classes_);
 }
 
 const ClassInfo* Index::find(const std::string& cls) const {
@@ -374,6 +553,25 @@ std::string Index::resolve(const std::string& context, const std::string& name) 
         if (has(candidate)) return candidate;
         if (scope.empty()) return {};
     }
+}
+
+std::vector<std::string> Index::lineage(const std::string& cls) const {
+    std::vector<std::string> out;
+    std::set<std::string> seen;
+    std::deque<std::string> todo{cls};
+    while (!todo.empty()) {
+        const std::string c = todo.front();
+        todo.pop_front();
+        if (!seen.insert(c).second) continue;
+        out.push_back(c);
+        const ClassInfo* info = find(c);
+        if (!info) continue;
+        for (const std::string& e : info->extends) {
+            const std::string r = resolve(c, e);
+            if (!r.empty()) todo.push_back(r);
+        }
+    }
+    return out;
 }
 
 std::set<std::string> Index::elements(const std::string& cls) const {
@@ -409,6 +607,10 @@ std::string Component::value(const std::string& n) const {
     return m ? m->value : std::string();
 }
 
+bool Component::has_prefix(const std::string& p) const {
+    return std::find(prefixes.begin(), prefixes.end(), p) != prefixes.end();
+}
+
 const Component* Model::find(const std::string& n) const {
     for (const Component& c : components)
         if (c.name == n) return &c;
@@ -419,6 +621,18 @@ Model parse_model(const std::string& text) {
     Model model;
     Parser(text, model).parse();
     return model;
+}
+
+ClassInfo class_info(const Model& model) {
+    ClassInfo info;
+    info.kind = model.kind;
+    info.extends = model.extends;
+    for (const Component& c : model.components) {
+        if (c.is_protected) continue;
+        info.elements.push_back(c.name);
+        info.element_types[c.name] = c.class_name;
+    }
+    return info;
 }
 
 double parse_number(const std::string& text) {
@@ -445,33 +659,123 @@ bool parse_bool(const std::string& text) { return trim(text) == "true"; }
 
 namespace {
 
-// Kind of a connector class: the element names it carries, flattened.
+const std::set<std::string>& builtin_types() {
+    static const std::set<std::string> t = {"Real", "Integer", "Boolean", "String"};
+    return t;
+}
+
+// A class that is (or extends) a built-in type: parameters, variables, SI
+// types, RealInput/RealOutput. Its modifiers are attributes, not elements.
+bool scalar_class(const Index& index, const std::string& cls) {
+    if (builtin_types().count(cls)) return true;
+    for (const std::string& c : index.lineage(cls)) {
+        const ClassInfo* info = index.find(c);
+        if (!info) continue;
+        if (info->kind == "type") return true;
+        for (const std::string& e : info->extends)
+            if (builtin_types().count(e)) return true;
+    }
+    return false;
+}
+
+bool is_attribute(const std::string& name) {
+    static const std::set<std::string> a = {"start", "fixed", "min",      "max",        "unit",
+                                            "displayUnit", "nominal", "quantity", "stateSelect"};
+    return a.count(name) != 0;
+}
+
+// Kind of a connector class: the element names it carries, flattened; "Real"
+// for signal connectors (whose index entries list no elements).
 std::string connector_kind(const Index& index, const std::string& cls) {
+    if (scalar_class(index, cls)) return "Real";
     std::string kind;
     for (const std::string& e : index.elements(cls)) kind += e + ",";
     return kind;
 }
+
+// Signal direction of a connector class: +1 RealOutput, -1 RealInput, 0 other.
+int signal_direction(const Index& index, const std::string& cls) {
+    for (const std::string& c : index.lineage(cls)) {
+        if (c == kRealOut) return 1;
+        if (c == kRealIn) return -1;
+    }
+    return 0;
+}
+
+// Class of connector `element` of a component of class `cls`: from a
+// generated class's declarations or the table, along the extends chain.
+std::string connector_class(const Index& index, const std::string& cls, const std::string& element) {
+    for (const std::string& c : index.lineage(cls)) {
+        if (const ClassInfo* info = index.find(c)) {
+            const auto it = info->element_types.find(element);
+            if (it != info->element_types.end()) return it->second;
+        }
+        const auto t = connector_table().find({c, element});
+        if (t != connector_table().end()) return t->second;
+    }
+    return {};
+}
+
+std::string strip_subscripts(const std::string& ref) {
+    std::string out;
+    int depth = 0;
+    for (char c : ref) {
+        if (c == '[') ++depth;
+        else if (c == ']') --depth;
+        else if (depth == 0) out += c;
+    }
+    return out;
+}
+
+// Names an algorithm may use without declaring them.
+bool builtin_name(const std::string& n) {
+    static const std::set<std::string> b = {
+        "time", "sample", "pre",  "edge",  "change", "initial", "terminal", "noEvent", "smooth", "min",
+        "max",  "abs",    "sign", "sqrt",  "size",   "integer", "floor",    "ceil",    "mod",    "rem",
+        "div",  "delay",  "der",  "reinit", "assert", "fill",   "zeros",    "ones",    "sum",    "Modelica"};
+    return b.count(n) != 0;
+}
+
+struct Sets {
+    std::map<std::string, std::string> parent;
+    std::string find(const std::string& x) {
+        auto it = parent.find(x);
+        if (it == parent.end()) {
+            parent[x] = x;
+            return x;
+        }
+        if (it->second == x) return x;
+        const std::string root = find(it->second);
+        parent[x] = root;
+        return root;
+    }
+    void unite(const std::string& a, const std::string& b) { parent[find(a)] = find(b); }
+};
 
 }  // namespace
 
 std::vector<std::string> check_model(const Index& index, const Model& model) {
     std::vector<std::string> errors = model.errors;
     std::map<std::string, const Component*> by_name;
+    for (const std::string& e : model.extends)
+        if (!index.has(e)) errors.push_back(model.name + " extends unknown class " + e);
     for (const Component& c : model.components) {
         if (!by_name.emplace(c.name, &c).second) errors.push_back("duplicate component name " + c.name);
         if (!valid_identifier(c.name)) errors.push_back("invalid identifier '" + c.name + "'");
+        const bool builtin = builtin_types().count(c.class_name) != 0;
         const ClassInfo* info = index.find(c.class_name);
-        if (!info) {
+        if (!info && !builtin) {
             errors.push_back(c.name + ": class " + c.class_name + " is not in MSL 4.0");
             continue;
         }
-        if (info->kind != "model" && info->kind != "connector")
+        if (info && info->kind != "model" && info->kind != "block" && info->kind != "connector" && info->kind != "type")
             errors.push_back(c.name + ": class " + c.class_name + " is a " + info->kind);
-        const std::set<std::string> elements = index.elements(c.class_name);
+        const bool scalar = scalar_class(index, c.class_name);
+        const std::set<std::string> elements = scalar ? std::set<std::string>() : index.elements(c.class_name);
         std::set<std::string> given;
         for (const Modifier& m : c.modifiers) {
             if (!given.insert(m.name).second) errors.push_back(c.name + ": modifier " + m.name + " given twice");
-            if (!elements.count(m.name))
+            if (scalar ? !is_attribute(m.name) : !elements.count(m.name))
                 errors.push_back(c.name + ": " + c.class_name + " declares no element " + m.name);
             // Enumeration literals and class references must exist too.
             if (m.value.rfind("Modelica.", 0) == 0) {
@@ -483,8 +787,24 @@ std::vector<std::string> check_model(const Index& index, const Model& model) {
         }
     }
 
+    // Names used by algorithm sections.
+    if (!model.algorithm_names.empty()) {
+        std::set<std::string> known;
+        for (const Component& c : model.components) known.insert(c.name);
+        for (const std::string& e : model.extends)
+            for (const std::string& n : index.elements(e)) known.insert(n);
+        for (const std::string& n : model.algorithm_names)
+            if (!known.count(n) && !model.loop_variables.count(n) && !builtin_name(n))
+                errors.push_back(model.name + ": the algorithm uses undeclared " + n);
+    }
+
     std::map<std::string, int> uses;
-    const auto endpoint_kind = [&](const std::string& ref) -> std::string {
+    // Signal connection sets: which refs drive them (outputs of components,
+    // inputs of the model itself) and which they drive.
+    Sets sets;
+    std::map<std::string, int> direction;  // ref -> +1 source, -1 sink
+    const auto endpoint_kind = [&](const std::string& ref_text) -> std::string {
+        const std::string ref = strip_subscripts(ref_text);
         const size_t dot = ref.find('.');
         const std::string comp = ref.substr(0, dot);
         const auto it = by_name.find(comp);
@@ -498,6 +818,9 @@ std::vector<std::string> check_model(const Index& index, const Model& model) {
         if (!info) return {};
         if (dot == std::string::npos) {
             if (info->kind != "connector") errors.push_back("connect to " + ref + ", which is not a connector");
+            // Seen from inside, the model's own input drives its connection set.
+            const int d = signal_direction(index, c.class_name);
+            if (d != 0) direction[ref_text] = -d;
             return connector_kind(index, c.class_name);
         }
         const std::string element = ref.substr(dot + 1);
@@ -512,13 +835,15 @@ std::vector<std::string> check_model(const Index& index, const Model& model) {
         const auto cond = conditional_connectors().find(element);
         if (cond != conditional_connectors().end() && (!c.modifier(cond->second) || !parse_bool(c.value(cond->second))))
             errors.push_back(ref + " is connected but " + c.name + " does not set " + cond->second + " = true");
-        const auto t = connector_table().find({c.class_name, element});
-        if (t == connector_table().end()) {
+        const std::string type = connector_class(index, c.class_name, element);
+        if (type.empty()) {
             errors.push_back(ref + ": not a connector the checker knows");
             return {};
         }
-        if (!index.has(t->second)) errors.push_back(ref + ": connector class " + t->second + " is not in MSL 4.0");
-        return connector_kind(index, t->second);
+        if (!index.has(type)) errors.push_back(ref + ": connector class " + type + " is not in MSL 4.0");
+        const int d = signal_direction(index, type);
+        if (d != 0) direction[ref_text] = d;
+        return connector_kind(index, type);
     };
     std::set<std::string> connected;
     for (const auto& [a, b] : model.connects) {
@@ -526,16 +851,50 @@ std::vector<std::string> check_model(const Index& index, const Model& model) {
         if (!ka.empty() && !kb.empty() && ka != kb)
             errors.push_back("connect(" + a + ", " + b + ") joins different connector kinds (" + ka + " / " + kb + ")");
         if (a == b) errors.push_back("connect(" + a + ", " + b + ") joins a connector to itself");
+        if (ka == "Real" && kb == "Real") sets.unite(a, b);
         connected.insert(a);
         connected.insert(b);
     }
+    // Each signal set: exactly one source.
+    std::map<std::string, std::vector<std::string>> sources, members;
+    for (const auto& [ref, d] : direction) {
+        const std::string root = sets.find(ref);
+        members[root].push_back(ref);
+        if (d > 0) sources[root].push_back(ref);
+    }
+    for (const auto& [root, refs] : members) {
+        const size_t n = sources.count(root) ? sources[root].size() : 0;
+        if (n == 1) continue;
+        std::string list;
+        for (const std::string& r : refs) list += (list.empty() ? "" : ", ") + r;
+        errors.push_back("signals {" + list + "} have " + std::to_string(n) + " sources (outputs) instead of one");
+    }
+    std::set<std::string> connected_plain;
+    for (const std::string& r : connected) connected_plain.insert(strip_subscripts(r));
+    std::map<std::string, std::vector<std::string>> inputs_of;  // class -> its signal inputs
     for (const Component& c : model.components) {
         if (c.inner) continue;  // world is used through inner/outer by every component
-        if (!uses.count(c.name)) errors.push_back(c.name + " is declared but not connected");
+        const bool scalar = scalar_class(index, c.class_name);
+        // Parameters, variables and a block's own signal connectors are used
+        // by equations or from outside, not through connects.
+        if (!scalar && !uses.count(c.name)) errors.push_back(c.name + " is declared but not connected");
         // Joints and fixed frames need both frames connected (MSL asserts cardinality for joints).
         if (connector_table().count({c.class_name, "frame_b"}) && c.class_name != kMB + "World")
             for (const char* f : {".frame_a", ".frame_b"})
                 if (!connected.count(c.name + f)) errors.push_back(c.name + f + " is not connected");
+        // Every signal input of a component must be driven.
+        if (scalar || !index.find(c.class_name) || index.find(c.class_name)->kind == "connector") continue;
+        auto inputs = inputs_of.find(c.class_name);
+        if (inputs == inputs_of.end()) {
+            std::vector<std::string> list;
+            for (const std::string& e : index.elements(c.class_name)) {
+                const std::string type = connector_class(index, c.class_name, e);
+                if (!type.empty() && signal_direction(index, type) < 0) list.push_back(e);
+            }
+            inputs = inputs_of.emplace(c.class_name, std::move(list)).first;
+        }
+        for (const std::string& e : inputs->second)
+            if (!connected_plain.count(c.name + "." + e)) errors.push_back("input " + c.name + "." + e + " is not connected");
     }
     return errors;
 }

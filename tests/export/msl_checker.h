@@ -17,7 +17,10 @@ namespace msl {
 struct ClassInfo {
     std::string kind;
     std::vector<std::string> extends;   // as written in the library source
-    std::vector<std::string> elements;  // declared in the class itself
+    std::vector<std::string> elements;  // declared in the class itself (public ones)
+    // Classes read from generated files (Index::add) also know the class of
+    // each element, so their connectors need no table.
+    std::map<std::string, std::string> element_types;
 };
 
 class Index {
@@ -31,6 +34,11 @@ public:
     std::string resolve(const std::string& context, const std::string& name) const;
     // Elements declared in `cls` and every class it extends (transitively).
     std::set<std::string> elements(const std::string& cls) const;
+    // `cls` and every class it extends (transitively), `cls` first.
+    std::vector<std::string> lineage(const std::string& cls) const;
+    // A class of the generated package (its model or block read back with
+    // parse_model, see class_info), so models that use it can be checked.
+    void add(const std::string& cls, ClassInfo info) { classes_[cls] = std::move(info); }
 
 private:
     std::map<std::string, ClassInfo> classes_;
@@ -44,27 +52,48 @@ struct Modifier {
 
 struct Component {
     bool inner = false;
+    std::vector<std::string> prefixes;  // parameter, discrete, constant, input, output, ... as written
+    bool is_protected = false;
     std::string class_name, name, description;  // description unescaped
+    std::string dimensions;  // text inside "[...]" after the name, "" if scalar
+    std::string binding;     // text after "=" (declaration equation), "" if none
     std::vector<Modifier> modifiers;
+    bool has_prefix(const std::string& p) const;
     const Modifier* modifier(const std::string& name) const;
     std::string value(const std::string& name) const;  // "" when absent
 };
 
 struct Model {
+    std::string kind = "model";  // "model" or "block"
     std::string within, name, description;
     std::vector<std::string> extends;  // base classes, as written
     std::vector<Component> components;
-    std::vector<std::pair<std::string, std::string>> connects;
+    std::vector<std::pair<std::string, std::string>> connects;  // may end in a subscript: "table.y[1]"
     std::string annotation;          // text inside the model's annotation(...)
     std::vector<std::string> errors; // syntax problems found while parsing
+    // Algorithm sections: the source text, and every name they use (the
+    // first identifier of a dotted name) with the for-loop variables.
+    std::string algorithm;
+    std::set<std::string> algorithm_names, loop_variables;
     const Component* find(const std::string& name) const;
 };
 
+// One model or block as the exporter writes them: declarations (with
+// prefixes, dimensions, modifiers, bindings), `extends`, `protected`, connect
+// equations and algorithm sections (read as tokens: when/if/for nest to their
+// `end`, names are collected for check_model).
 Model parse_model(const std::string& text);
+
+// What a parsed class offers to models that use it: its public components as
+// elements, with their classes.
+ClassInfo class_info(const Model& model);
 
 // Structural problems: unknown classes, undeclared modifiers or connectors,
 // connects between connectors of different kinds or to undeclared names,
-// components nothing connects to, duplicate names. Empty when clean.
+// components nothing connects to, duplicate names; for signals (RealInput /
+// RealOutput): every input of a component connected exactly once, from an
+// output, and no two outputs joined; names used in algorithm sections that
+// the class does not declare. Empty when clean.
 std::vector<std::string> check_model(const Index& index, const Model& model);
 
 double parse_number(const std::string& text);

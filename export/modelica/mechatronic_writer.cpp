@@ -1,0 +1,387 @@
+#include "modelica/mechatronic_writer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/names.h"
+#include "common/number_text.h"
+#include "modelica/drive_blocks.h"
+#include "modelica/model_text.h"
+#include "modelica/modelica_text.h"
+
+namespace mbx {
+
+namespace {
+
+const std::string kBlocks = "Modelica.Blocks.";
+const std::string kAnalog = "Modelica.Electrical.Analog.";
+const std::string kRotational = "Modelica.Mechanics.Rotational.";
+const std::string kTranslational = "Modelica.Mechanics.Translational.";
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+// "[t1, q1; t2, q2; ...]"
+std::string table_text(const std::vector<MotionPoint>& points) {
+    std::string s = "[";
+    for (size_t i = 0; i < points.size(); ++i)
+        s += (i ? "; " : "") + number_text(points[i].time) + ", " + number_text(points[i].value);
+    return s + "]";
+}
+
+const char* interpolation_word(Interpolation i) {
+    switch (i) {
+    case Interpolation::Smooth: return "smooth";
+    case Interpolation::Step: return "step";
+    case Interpolation::Linear: break;
+    }
+    return "linear";
+}
+
+int velocity_estimate_code(VelocityEstimate v) {
+    switch (v) {
+    case VelocityEstimate::Difference: return 1;
+    case VelocityEstimate::FilteredDifference: return 2;
+    case VelocityEstimate::Measured: break;
+    }
+    return 0;
+}
+
+class MechatronicBuilder {
+public:
+    MechatronicBuilder(ExportModel& model, const std::string& package, const std::vector<JointFlanges>& flanges)
+        : model_(model), m_(model.mechanism()), package_(package), flanges_(flanges) {}
+
+    MechatronicModel build();
+
+private:
+    void add_drive(int index);
+    // Declares <prefix>_<role> and returns its name.
+    std::string add(const std::string& role, const std::string& class_name,
+                    std::vector<std::pair<std::string, std::string>> modifiers, const std::string& what);
+    void connect(const std::string& a, const std::string& b) { connects_.push_back({{}, a, b}); }
+    // y = sum of gain * signal, as a Gain, Add or Add3 (terms: 1 to 3).
+    std::string weighted_sum(const std::string& role, const std::vector<std::pair<std::string, double>>& terms,
+                             const std::string& what);
+
+    ExportModel& model_;
+    const Mechanism& m_;
+    std::string package_;
+    const std::vector<JointFlanges>& flanges_;
+    NameTable names_;
+    ModelicaModel out_;
+    MechatronicModel result_;
+    // The drive being written.
+    const Drive* drive_ = nullptr;
+    std::string prefix_;
+    ModelicaDriveComponents* parts_ = nullptr;
+    size_t first_component_ = 0;
+    std::vector<ModelicaConnect> connects_;
+};
+
+std::string MechatronicBuilder::add(const std::string& role, const std::string& class_name,
+                                    std::vector<std::pair<std::string, std::string>> modifiers,
+                                    const std::string& what) {
+    ModelicaComponent c;
+    c.class_name = class_name;
+    c.name = names_.claim(prefix_ + "_" + role);
+    c.modifiers = std::move(modifiers);
+    c.description = "drive " + quoted(drive_->name) + ": " + what;
+    parts_->roles.emplace_back(role, c.name);
+    out_.components.push_back(std::move(c));
+    return out_.components.back().name;
+}
+
+std::string MechatronicBuilder::weighted_sum(const std::string& role,
+                                             const std::vector<std::pair<std::string, double>>& terms,
+                                             const std::string& what) {
+    std::string name;
+    if (terms.size() == 1) {
+        name = add(role, kBlocks + "Math.Gain", {{"k", number_text(terms[0].second)}}, what);
+        connect(terms[0].first, name + ".u");
+        return name + ".y";
+    }
+    std::vector<std::pair<std::string, std::string>> gains;
+    for (size_t i = 0; i < terms.size(); ++i) gains.emplace_back("k" + std::to_string(i + 1), number_text(terms[i].second));
+    name = add(role, kBlocks + (terms.size() == 2 ? "Math.Add" : "Math.Add3"), std::move(gains), what);
+    for (size_t i = 0; i < terms.size(); ++i) connect(terms[i].first, name + ".u" + std::to_string(i + 1));
+    return name + ".y";
+}
+
+void MechatronicBuilder::add_drive(int index) {
+    const Drive& d = model_.settings().drives[size_t(index)];
+    const Joint* joint = d.joint >= 0 && size_t(d.joint) < m_.joints.size() ? &m_.joints[size_t(d.joint)] : nullptr;
+    const bool has_flange = joint && size_t(d.joint) < flanges_.size() && !flanges_[size_t(d.joint)].axis.empty();
+    if (!has_flange || (joint->type == MBX_PRIMITIVE_PRISMATIC) != d.linear) {
+        model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION,
+                    joint ? model_.joint_subject(d.joint) : Subject::model(model_.settings().model_name),
+                    "Modelica: drive " + quoted(d.name) + " is left out of Mechatronic.mo: its joint" +
+                        (joint ? " " + quoted(joint->name) : std::string()) +
+                        " has no axis flange in Mechanics.mo (a cut joint or the revolute that carries a "
+                        "planar-loop constraint)");
+        return;
+    }
+    drive_ = &d;
+    prefix_ = sanitize_identifier(d.name, "drive");
+    result_.drives.push_back({index, prefix_, {}});
+    parts_ = &result_.drives.back();
+    first_component_ = out_.components.size();
+    connects_.clear();
+
+    const ControllerSpec& c = d.spec.controller;
+    const bool linear = d.linear;
+    const bool discrete = c.sample_period > 0;
+    const bool voltage = d.spec.amplifier.mode == AmplifierMode::Voltage;
+    const std::string axis = "mechanics." + flanges_[size_t(d.joint)].axis;
+    const std::string unit = linear ? "m" : "rad";
+
+    // The motion target.
+    const MotionProfile& motion = d.spec.motion;
+    std::string target;
+    if (motion.points().empty()) {
+        target = add("target", kBlocks + "Sources.Constant", {{"k", "0"}}, "no motion given: holds 0") + ".y";
+    } else if (motion.interpolation() == Interpolation::Smooth) {
+        result_.uses_smooth_target = true;
+        target = add("target", package_ + "." + kSmoothTargetBlock, {{"table", table_text(motion.points())}},
+                     "motion target (smooth: rest-to-rest quintic segments), " + unit) +
+                 ".y";
+    } else {
+        const bool step = motion.interpolation() == Interpolation::Step;
+        target = add("target", kBlocks + "Sources.CombiTimeTable",
+                     {{"table", table_text(motion.points())},
+                      {"smoothness", kBlocks + (step ? "Types.Smoothness.ConstantSegments"
+                                                     : "Types.Smoothness.LinearSegments")},
+                      {"extrapolation", kBlocks + "Types.Extrapolation.HoldLastPoint"}},
+                     std::string("motion target (") + interpolation_word(motion.interpolation()) + "), " + unit) +
+                 ".y[1]";
+    }
+
+    // Sensors on the joint side.
+    const std::string& mechanics_joint = joint->name;
+    const std::string position =
+        add("position", linear ? kTranslational + "Sensors.PositionSensor" : kRotational + "Sensors.AngleSensor", {},
+            std::string("joint ") + (linear ? "position" : "angle") + " of " + quoted(mechanics_joint) + ", " + unit);
+    connect(position + ".flange", axis);
+    const std::string q = position + (linear ? ".s" : ".phi");
+    std::string qd;
+    if (discrete || c.kd > 0 || c.kv > 0) {
+        const std::string speed =
+            add("speed", linear ? kTranslational + "Sensors.SpeedSensor" : kRotational + "Sensors.SpeedSensor", {},
+                "joint velocity of " + quoted(mechanics_joint) + ", " + unit + "/s");
+        connect(speed + ".flange", axis);
+        qd = speed + (linear ? ".v" : ".w");
+    }
+
+    // The controller.
+    std::string u;
+    if (discrete) {
+        result_.uses_discrete_controller = true;
+        const long delay_samples = std::lround(c.delay / c.sample_period);
+        const std::string ctl =
+            add("controller", package_ + "." + kDiscreteControllerBlock,
+                {{"kp", number_text(c.kp)},
+                 {"ki", number_text(c.ki)},
+                 {"kd", number_text(c.kd)},
+                 {"kv", number_text(c.kv)},
+                 {"kvi", number_text(c.kvi)},
+                 {"Ts", number_text(c.sample_period)},
+                 {"delaySamples", std::to_string(delay_samples)},
+                 {"uMax", number_text(d.output_limit)},
+                 {"velocityEstimate", std::to_string(velocity_estimate_code(c.velocity_estimate))}},
+                "sampled controller (velocityEstimate 0 measured, 1 difference, 2 filtered difference)");
+        connect(target, ctl + ".q_ref");
+        connect(q, ctl + ".q");
+        connect(qd, ctl + ".qd");
+        u = ctl + ".y";
+    } else {
+        const std::string error = add("error", kBlocks + "Math.Feedback", {}, "position error e = target - q");
+        connect(target, error + ".u1");
+        connect(q, error + ".u2");
+        std::vector<std::pair<std::string, double>> terms{{error + ".y", c.kp}};
+        if (c.ki > 0) {
+            const std::string integral =
+                add("error_integral", kBlocks + "Continuous.Integrator", {{"k", "1"}}, "integral of e");
+            connect(error + ".y", integral + ".u");
+            terms.emplace_back(integral + ".y", c.ki);
+        }
+        if (c.kd > 0) terms.emplace_back(qd, -c.kd);
+        u = weighted_sum("position_law", terms, "position loop u_p = kp e + ki int(e) - kd qdot");
+        if (c.kv > 0) {
+            const std::string verror =
+                add("velocity_error", kBlocks + "Math.Feedback", {}, "velocity error u_p - qdot");
+            connect(u, verror + ".u1");
+            connect(qd, verror + ".u2");
+            std::vector<std::pair<std::string, double>> vterms{{verror + ".y", c.kv}};
+            if (c.kvi > 0) {
+                const std::string integral = add("velocity_error_integral", kBlocks + "Continuous.Integrator",
+                                                 {{"k", "1"}}, "integral of u_p - qdot");
+                connect(verror + ".y", integral + ".u");
+                vterms.emplace_back(integral + ".y", c.kvi);
+            }
+            u = weighted_sum("velocity_law", vterms, "velocity loop u = kv (u_p - qdot) + kvi int(u_p - qdot)");
+        }
+        const std::string limiter =
+            add("limiter", kBlocks + "Nonlinear.Limiter",
+                {{"uMax", number_text(d.output_limit)}, {"uMin", number_text(-d.output_limit)}},
+                std::string("controller output bound, ") + (voltage ? "V" : "amplifier input units"));
+        connect(u, limiter + ".u");
+        u = limiter + ".y";
+        if (c.delay > 0) {
+            const std::string delay =
+                add("delay", kBlocks + "Nonlinear.FixedDelay", {{"delayTime", number_text(c.delay)}}, "transport delay");
+            connect(u, delay + ".u");
+            u = delay + ".y";
+        }
+        // Where MSL's blocks and mbx's own controller (DriveController) part.
+        std::string differs;
+        if (c.ki > 0 || c.kvi > 0)
+            differs = "MSL's Integrator keeps integrating while the output is saturated (mbx's controller holds an "
+                      "integral that pushes further into saturation)";
+        if (c.delay > 0)
+            differs += std::string(differs.empty() ? "" : "; ") + "FixedDelay gives the controller's initial output, not 0, "
+                       "during the first " + number_text(c.delay) + " s";
+        if (!differs.empty())
+            model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(d.joint),
+                        "Modelica: drive " + quoted(d.name) + " has a continuous controller of MSL blocks: " + differs);
+    }
+
+    // Amplifier and armature circuit.
+    std::string source;
+    if (voltage) {
+        source = add("source", kAnalog + "Sources.SignalVoltage", {}, "voltage amplifier: armature voltage = u");
+        connect(u, source + ".v");
+    } else {
+        const std::string amplifier = add("amplifier", kBlocks + "Math.Gain",
+                                          {{"k", number_text(d.spec.amplifier.gain)}}, "current amplifier gain, A per unit of u");
+        connect(u, amplifier + ".u");
+        source = add("source", kAnalog + "Sources.SignalCurrent", {}, "current amplifier: armature current");
+        connect(amplifier + ".y", source + ".i");
+    }
+    const std::string resistor = add("resistor", kAnalog + "Basic.Resistor", {{"R", number_text(d.armature_resistance)}},
+                                     "armature resistance of motor " + quoted(d.motor_name));
+    // An ideal current source imposes the current: an inductor would only ask
+    // a Modelica tool to differentiate the controller output.
+    std::string inductor;
+    if (voltage && d.armature_inductance > 0)
+        inductor = add("inductor", kAnalog + "Basic.Inductor", {{"L", number_text(d.armature_inductance)}},
+                       "armature inductance of motor " + quoted(d.motor_name));
+    const std::string emf = add("emf", kAnalog + "Basic.RotationalEMF", {{"k", number_text(d.motor.torque_constant)}},
+                                "torque and back-EMF constant of motor " + quoted(d.motor_name) + ", N m/A");
+    const std::string ground = add("ground", kAnalog + "Basic.Ground", {}, "electrical ground of the armature circuit");
+    // Current flows from the source through the resistor (and inductor) into
+    // emf.p: SignalVoltage drives it out of p, SignalCurrent out of n.
+    const std::string out_pin = source + (voltage ? ".p" : ".n");
+    const std::string return_pin = source + (voltage ? ".n" : ".p");
+    connect(out_pin, resistor + ".p");
+    if (!inductor.empty()) {
+        connect(resistor + ".n", inductor + ".p");
+        connect(inductor + ".n", emf + ".p");
+    } else {
+        connect(resistor + ".n", emf + ".p");
+    }
+    connect(emf + ".n", return_pin);
+    connect(return_pin, ground + ".p");
+
+    // Drive train: motor shaft -> built-in gear -> transmission -> joint.
+    std::string shaft = emf + ".flange";
+    if (d.motor.rotor_inertia > 0) {
+        const std::string rotor = add("rotor", kRotational + "Components.Inertia",
+                                      {{"J", number_text(d.motor.rotor_inertia)}}, "rotor inertia of motor " + quoted(d.motor_name));
+        connect(shaft, rotor + ".flange_a");
+        shaft = rotor + ".flange_b";
+    }
+    const std::string gear = add("motor_gear", kRotational + "Components.IdealGear",
+                                 {{"ratio", number_text(d.motor_gear_ratio)}},
+                                 "built-in gear of motor " + quoted(d.motor_name) + " (motor turns per output turn)");
+    connect(shaft, gear + ".flange_a");
+    shaft = gear + ".flange_b";
+    const bool gearbox = d.transmission_kind == "gearbox";
+    const bool screw = d.transmission_kind == "ball_screw";
+    if (gearbox || screw) {
+        const std::string what = std::string(gearbox ? "gearbox " : "ball screw ") + quoted(d.transmission_name);
+        if (d.transmission_inertia > 0) {
+            const std::string inertia = add("transmission_inertia", kRotational + "Components.Inertia",
+                                            {{"J", number_text(d.transmission_inertia)}}, "own inertia of " + what + " at its input");
+            connect(shaft, inertia + ".flange_a");
+            shaft = inertia + ".flange_b";
+        }
+        const std::string eta = number_text(d.efficiency);
+        const std::string lossy =
+            add("transmission", kRotational + "Components.LossyGear",
+                {{"ratio", gearbox ? number_text(d.transmission_ratio) : "1"},
+                 {"lossTable", "[0, " + eta + ", " + eta + ", 0, 0]"}},
+                what + ": " + (gearbox ? "ratio and " : "") + "efficiency (driving and back-driven)");
+        connect(shaft, lossy + ".flange_a");
+        shaft = lossy + ".flange_b";
+        if (screw) {
+            const std::string r2t = add("screw", kRotational + "Components.IdealGearR2T",
+                                        {{"ratio", number_text(d.transmission_ratio)}}, what + ": 2 pi / lead, rad/m");
+            connect(shaft, r2t + ".flangeR");
+            shaft = r2t + ".flangeT";
+        }
+    }
+    connect(shaft, axis);
+
+    out_.components[first_component_].comment =
+        "Drive " + quoted(d.name) + " on " + (linear ? "prismatic " : "revolute ") + quoted(mechanics_joint) +
+        ": motor " + quoted(d.motor_name) +
+        (d.transmission_name.empty() ? std::string()
+                                        : std::string(d.transmission_kind == "gearbox" ? ", gearbox " : ", ball screw ") +
+                                              quoted(d.transmission_name)) +
+        (discrete ? ", sampled controller" : ", continuous controller") + (voltage ? ", voltage" : ", current") +
+        " amplifier";
+    connects_.front().comment = "Drive " + quoted(d.name);
+    for (ModelicaConnect& cn : connects_) out_.connects.push_back(std::move(cn));
+}
+
+MechatronicModel MechatronicBuilder::build() {
+    const ExportSettings& settings = model_.settings();
+    for (const char* fixed : {"mechanics", "Modelica", "ModelicaServices", "Complex", "Mechanics", "Mechatronic",
+                              "UserModel", "time"})
+        names_.reserve(fixed);
+    names_.reserve(package_);
+    names_.reserve(kDiscreteControllerBlock);
+    names_.reserve(kSmoothTargetBlock);
+
+    out_.header = "Generated by mbx from " + quoted(settings.model_name) +
+                  ". Do not edit: every export rewrites this file.\n"
+                  "The drives of the mechanism acting on Mechanics; put your changes in UserModel.mo.";
+    out_.within = package_;
+    out_.name = "Mechatronic";
+    out_.description = "Drives of " + quoted(settings.model_name) + " on its multibody model (generated by mbx)";
+    ModelicaComponent mechanics;
+    mechanics.class_name = package_ + ".Mechanics";
+    mechanics.name = "mechanics";
+    mechanics.description = "the mechanical model; drives act on its axis_* flanges";
+    out_.components.push_back(std::move(mechanics));
+
+    double stop = settings.stop_time > 0 ? settings.stop_time : 10;
+    for (size_t i = 0; i < settings.drives.size(); ++i) {
+        const size_t before = result_.drives.size();
+        add_drive(int(i));
+        if (result_.drives.size() == before) continue;
+        const std::vector<MotionPoint>& points = settings.drives[i].spec.motion.points();
+        if (!points.empty()) stop = std::max(stop, points.back().time);
+    }
+    if (result_.drives.empty()) return {};
+    out_.annotation = "experiment(StopTime = " + number_text(stop) + ", Interval = " + number_text(stop / 500) +
+                      ", Tolerance = 1e-06)";
+    result_.stop_time = stop;
+    result_.text = format_model(out_);
+    return std::move(result_);
+}
+
+}  // namespace
+
+std::string ModelicaDriveComponents::component(const std::string& role) const {
+    for (const auto& [r, name] : roles)
+        if (r == role) return name;
+    return {};
+}
+
+MechatronicModel write_mechatronic(ExportModel& model, const std::string& package,
+                                   const std::vector<JointFlanges>& flanges) {
+    MechatronicBuilder builder(model, package, flanges);
+    return builder.build();
+}
+
+}  // namespace mbx
