@@ -28,15 +28,6 @@ std::string table_text(const std::vector<MotionPoint>& points) {
     return s + "]";
 }
 
-const char* interpolation_word(Interpolation i) {
-    switch (i) {
-    case Interpolation::Smooth: return "smooth";
-    case Interpolation::Step: return "step";
-    case Interpolation::Linear: break;
-    }
-    return "linear";
-}
-
 int velocity_estimate_code(VelocityEstimate v) {
     switch (v) {
     case VelocityEstimate::Difference: return 1;
@@ -151,7 +142,7 @@ void MechatronicBuilder::add_drive(int index) {
                       {"smoothness", kBlocks + (step ? "Types.Smoothness.ConstantSegments"
                                                      : "Types.Smoothness.LinearSegments")},
                       {"extrapolation", kBlocks + "Types.Extrapolation.HoldLastPoint"}},
-                     std::string("motion target (") + interpolation_word(motion.interpolation()) + "), " + unit) +
+                     std::string("motion target (") + interpolation_name(motion.interpolation()) + "), " + unit) +
                  ".y[1]";
     }
 

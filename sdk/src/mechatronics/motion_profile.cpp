@@ -63,4 +63,13 @@ bool parse_interpolation(const std::string& word, Interpolation& out) {
     return true;
 }
 
+const char* interpolation_name(Interpolation interpolation) {
+    switch (interpolation) {
+    case Interpolation::Smooth: return "smooth";
+    case Interpolation::Step: return "step";
+    case Interpolation::Linear: break;
+    }
+    return "linear";
+}
+
 }  // namespace mbx

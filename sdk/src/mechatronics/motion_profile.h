@@ -38,5 +38,6 @@ private:
 };
 
 bool parse_interpolation(const std::string& word, Interpolation& out);  // "linear", "smooth", "step"
+const char* interpolation_name(Interpolation interpolation);            // the same words
 
 }  // namespace mbx

@@ -198,15 +198,6 @@ void write_loops(JsonWriter& w, const Mechanism& m) {
     w.end_array();
 }
 
-const char* interpolation_name(Interpolation i) {
-    switch (i) {
-    case Interpolation::Smooth: return "smooth";
-    case Interpolation::Step: return "step";
-    case Interpolation::Linear: break;
-    }
-    return "linear";
-}
-
 void write_drives(JsonWriter& w, const Mechanism& m, const std::vector<Drive>& drives) {
     w.key("drives").begin_array();
     for (const Drive& d : drives) {
