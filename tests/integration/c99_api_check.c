@@ -16,6 +16,110 @@
 typedef char check_host_v1_smaller[(MBX_HOST_V1_SIZE < sizeof(mbx_host)) ? 1 : -1];
 typedef char check_struct_size_first[(offsetof(mbx_body_desc, struct_size) == 0) ? 1 : -1];
 typedef char check_abi_version[(MBX_ABI_VERSION >= 2u) ? 1 : -1];
+/* ABI 5: the mechatronics structs keep struct_size first; overrides and
+ * motion points are fixed-layout array elements without one. */
+typedef char check_abi_5[(MBX_ABI_VERSION >= 5u) ? 1 : -1];
+typedef char check_drive_desc_first[(offsetof(mbx_drive_desc, struct_size) == 0) ? 1 : -1];
+typedef char check_controller_first[(offsetof(mbx_controller_desc, struct_size) == 0) ? 1 : -1];
+typedef char check_drive_info_first[(offsetof(mbx_drive_info, struct_size) == 0) ? 1 : -1];
+typedef char check_motion_point[(sizeof(mbx_motion_point) == 2 * sizeof(double)) ? 1 : -1];
+typedef char check_api_grows[(offsetof(mbx_api, mechanism_drive_target) > offsetof(mbx_api, mechanism_export)) ? 1 : -1];
+
+/* A one-motor library, as a C host might hold it in memory. */
+static const char *const k_library =
+    "<object_library version=\"1\"><object_folder name=\"Motors\">"
+    "<object_class name=\"DC\" kind=\"dc_motor\" modelica=\"M.DC\">"
+    "<parameter name=\"J_Rotor\" unit=\"kg.m2\"/><parameter name=\"VaNominal\" unit=\"V\"/>"
+    "<parameter name=\"IaNominal\" unit=\"A\"/><parameter name=\"rpmNominal\" unit=\"rpm\"/>"
+    "<parameter name=\"Ra\" unit=\"Ohm\"/>"
+    "<object name=\"m\" ID=\"0123456789abcdef0123456789ABCDEF\">"
+    "<parameter name=\"J_Rotor\" value=\"1e-6\"/><parameter name=\"VaNominal\" value=\"12\"/>"
+    "<parameter name=\"IaNominal\" value=\"1\"/><parameter name=\"rpmNominal\" value=\"3000\"/>"
+    "<parameter name=\"Ra\" value=\"2\"/></object></object_class></object_folder></object_library>";
+
+/* The mechatronics entry points from C: form checks that need no mechanism.
+ * Returns 0 when everything behaved. */
+static int check_mechatronics(const mbx_api *api, mbx_context *context) {
+    mbx_mechatronics *mechatronics = NULL;
+    mbx_controller_desc controller = {0};
+    mbx_drive_desc drive = {0};
+    mbx_drive_info info = {0};
+    mbx_parameter_override overrides[1] = {{"Ratio", 2.0}};
+    mbx_motion_point points[2] = {{0.0, 0.0}, {1.0, 0.5}};
+    mbx_status (*target)(const mbx_mechanism *, uint32_t, double, double *) = api->mechanism_drive_target;
+    mbx_status (*get_drive)(const mbx_mechanism *, uint32_t, mbx_drive_info *) = api->mechanism_get_drive;
+    mbx_status (*attach)(mbx_context *, mbx_mechanism *, const mbx_mechatronics *) = api->mechanism_set_mechatronics;
+    uint32_t (*count)(const mbx_mechanism *) = api->mechanism_drive_count;
+    double q[3] = {0.0, 0.0, 0.0};
+    int failures = 0;
+
+    if (api->abi_version < 5u || api->struct_size < offsetof(mbx_api, mechanism_drive_target) + sizeof target) {
+        fprintf(stderr, "the API table has no ABI 5 entries\n");
+        return 1;
+    }
+    if (!target || !get_drive || !attach || !count || !api->mechatronics_load_drives) {
+        fprintf(stderr, "NULL ABI 5 entries\n");
+        return 1;
+    }
+    if (api->mechatronics_create(context, &mechatronics) != MBX_OK || !mechatronics) {
+        fprintf(stderr, "mechatronics_create failed\n");
+        return 1;
+    }
+    if (api->mechatronics_load_library_text(context, mechatronics, k_library, "c99.xml") != MBX_OK) {
+        fprintf(stderr, "load_library_text: %s\n", api->context_last_error(context));
+        ++failures;
+    }
+    controller.struct_size = sizeof controller;
+    controller.kp = 10.0;
+    controller.velocity_estimate = MBX_VELOCITY_MEASURED;
+    drive.struct_size = sizeof drive;
+    drive.constraint_id = "J";
+    drive.primitive_index = -1;
+    drive.motor_id = "0123456789ABCDEF0123456789ABCDEF";
+    drive.amplifier_mode = MBX_AMPLIFIER_VOLTAGE;
+    drive.controller = &controller;
+    drive.overrides = overrides;
+    drive.override_count = 1;
+    if (api->mechatronics_add_drive(context, mechatronics, &drive) != MBX_OK ||
+        api->mechatronics_drive_count(mechatronics) != 1) {
+        fprintf(stderr, "add_drive: %s\n", api->context_last_error(context));
+        ++failures;
+    }
+    if (api->mechatronics_set_motion(context, mechatronics, "J", -1, points, 2, MBX_INTERPOLATION_SMOOTH) != MBX_OK) {
+        fprintf(stderr, "set_motion: %s\n", api->context_last_error(context));
+        ++failures;
+    }
+    /* Values outside the enums, as C allows: refused, not undefined. */
+    if (api->mechatronics_set_motion(context, mechatronics, "J", -1, points, 2, (mbx_interpolation)9) !=
+        MBX_ERROR_INVALID_ARGUMENT) {
+        fprintf(stderr, "interpolation 9 was not refused\n");
+        ++failures;
+    }
+    drive.amplifier_mode = (mbx_amplifier_mode)7;
+    if (api->mechatronics_add_drive(context, mechatronics, &drive) == MBX_OK) {
+        fprintf(stderr, "amplifier_mode 7 was accepted\n");
+        ++failures;
+    }
+    drive.amplifier_mode = MBX_AMPLIFIER_VOLTAGE;
+    drive.controller = NULL;
+    if (api->mechatronics_add_drive(context, mechatronics, &drive) == MBX_OK) {
+        fprintf(stderr, "a drive without a controller was accepted\n");
+        ++failures;
+    }
+    if (api->mechatronics_drive_count(mechatronics) != 1) {
+        fprintf(stderr, "a refused drive changed the drive count\n");
+        ++failures;
+    }
+    info.struct_size = sizeof info;
+    if (count(NULL) != 0 || get_drive(NULL, 0, &info) != MBX_ERROR_INVALID_ARGUMENT ||
+        target(NULL, 0, 0.0, q) != MBX_ERROR_INVALID_ARGUMENT ||
+        attach(context, NULL, mechatronics) != MBX_ERROR_INVALID_ARGUMENT) {
+        fprintf(stderr, "NULL mechanisms were not refused\n");
+        ++failures;
+    }
+    api->mechatronics_destroy(mechatronics);
+    return failures;
+}
 
 static int count_bodies(void *user_data, size_t *out_count) {
     (void)user_data;
@@ -84,6 +188,10 @@ int main(int argc, char **argv) {
     }
     if (api->translate(context, NULL, NULL, NULL) != MBX_ERROR_INVALID_ARGUMENT) {
         fprintf(stderr, "NULL arguments were not refused\n");
+        api->context_destroy(context);
+        return 1;
+    }
+    if (check_mechatronics(api, context) != 0) {
         api->context_destroy(context);
         return 1;
     }

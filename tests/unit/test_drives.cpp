@@ -343,3 +343,23 @@ TEST_CASE("drives: the report lists each drive with its joint quantities, and on
     CHECK_FALSE(without.contains("drives"));
     CHECK(report_text(*m).find("Drives (") == std::string::npos);
 }
+
+TEST_CASE("drive file: a library already loaded (by any path to the same file) is not loaded twice") {
+    MechatronicSpec spec;
+    std::vector<DriveError> errors;
+    REQUIRE(spec.library.load_file(kLibrary));
+    // The same file through another path: a "." component.
+    const std::string dotted = std::string(MBX_SOURCE_DIR) + "/samples/./library/mbx_object_library.xml";
+    load_drive_text("<mechatronics>\n<library file=\"" + dotted + "\"/>\n</mechatronics>\n", "drives.xml", "", spec,
+                    errors);
+    CHECK(errors.empty());
+    for (const LibraryError& e : spec.library.errors()) FAIL_CHECK(e.text());
+    CHECK(spec.library.find(kKrs).object != nullptr);
+    // A different file with the same classes is still refused, class by class.
+    const std::string copy_text = "<object_library><object_folder name=\"Electromechanical\">"
+                                  "<object_class name=\"Permanent magnet DC machine\" kind=\"dc_motor\"/>"
+                                  "</object_folder></object_library>";
+    spec.library.load_text(copy_text, "other.xml");
+    REQUIRE(spec.library.errors().size() == 1);
+    CHECK(spec.library.errors()[0].message.find("declared twice") != std::string::npos);
+}

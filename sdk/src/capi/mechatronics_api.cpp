@@ -12,12 +12,37 @@ namespace {
 
 std::string text_or_empty(const char* s) { return s ? s : ""; }
 
-// All problems in one message (a line each); the structured error names the first.
-[[noreturn]] void fail_with(const std::vector<LibraryError>& errors, const std::string& what) {
+// One problem as a line of the message: "file:line: object: message", or
+// "object: message" for a drive the host added (it has no file).
+std::string problem_text(const LibraryError& e) {
+    if (!e.file.empty()) return e.text();
+    return (e.object.empty() ? std::string() : e.object + ": ") + e.message;
+}
+
+// All problems in one message (a line each); the structured error names the
+// first: `subject`, or else the file it is in (id = path, name = the object).
+[[noreturn]] void fail_with(const std::vector<LibraryError>& errors, const std::string& what,
+                            const Subject* subject = nullptr) {
     std::string message = what + " (" + std::to_string(errors.size()) + " problem" + (errors.size() > 1 ? "s" : "") + "):";
-    for (const LibraryError& e : errors) message += "\n" + e.text();
-    throw Error(MBX_ERROR_INVALID_INPUT, Subject{MBX_SUBJECT_FILE, errors.front().object, errors.front().object},
-                message, errors.front().file, errors.front().line);
+    for (const LibraryError& e : errors) message += "\n" + problem_text(e);
+    const LibraryError& first = errors.front();
+    throw Error(MBX_ERROR_INVALID_INPUT, subject ? *subject : Subject{MBX_SUBJECT_FILE, first.file, first.object},
+                message, first.file, first.line);
+}
+
+// The first drive of `spec` that resolve_drives left out (every drive with a
+// problem is left out, the others come back in order), or null.
+const DriveSpec* first_unresolved(const MechatronicSpec& spec, const std::vector<Drive>& resolved) {
+    size_t next = 0;
+    for (const DriveSpec& s : spec.drives) {
+        const DriveSpec* r = next < resolved.size() ? &resolved[next].spec : nullptr;
+        if (r && r->joint.constraint_id == s.joint.constraint_id && r->joint.primitive == s.joint.primitive &&
+            r->name == s.name && r->motor_id == s.motor_id && r->file == s.file && r->line == s.line)
+            ++next;
+        else
+            return &s;
+    }
+    return nullptr;
 }
 
 // Loads into a copy and keeps it only when clean, so a bad file changes nothing.
@@ -187,7 +212,13 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
         }
         std::vector<DriveError> errors;
         std::vector<Drive> drives = resolve_drives(m->spec, *mechanism->model, errors);
-        if (!errors.empty()) fail_with(errors, "drives do not fit the mechanism");
+        if (!errors.empty()) {
+            // A drive is about a CAD joint: name it by its constraint id.
+            const DriveSpec* culprit = first_unresolved(m->spec, drives);
+            const Subject joint = culprit ? Subject::constraint(culprit->joint.constraint_id, errors.front().object)
+                                          : Subject{MBX_SUBJECT_FILE, errors.front().file, errors.front().object};
+            fail_with(errors, "drives do not fit the mechanism", &joint);
+        }
         mechanism->drives = std::move(drives);
     });
 }

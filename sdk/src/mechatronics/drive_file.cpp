@@ -3,6 +3,7 @@
 #include <pugixml.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <iterator>
 #include <map>
 #include <set>
@@ -106,12 +107,11 @@ private:
             return;
         }
         const std::string full = path[0] == '/' || base_dir_.empty() ? path : base_dir_ + "/" + path;
-        std::string text;
-        if (!read_text_file(full, text)) {
+        if (!std::ifstream(full)) {
             error(n, "", "cannot open the object library '" + full + "'");
             return;
         }
-        spec_.library.load_text(text, full);
+        spec_.library.load_file(full);
     }
 
     void drive(const pugi::xml_node& n) {

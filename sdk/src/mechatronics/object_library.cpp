@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -70,13 +71,19 @@ std::string LibraryError::text() const {
     return s + message;
 }
 
-void ObjectLibrary::load_file(const std::string& path) {
+bool ObjectLibrary::load_file(const std::string& path) {
     std::string text;
     if (!read_text_file(path, text)) {
         errors_.push_back({path, 0, "", "cannot open the library file"});
-        return;
+        return false;
     }
+    std::error_code ec;
+    const std::string real = std::filesystem::weakly_canonical(path, ec).string();
+    for (const std::string& f : loaded_files_)
+        if (f == real) return true;
+    loaded_files_.push_back(real);
     load_text(text, path);
+    return true;
 }
 
 void ObjectLibrary::load_text(const std::string& text, const std::string& file) {

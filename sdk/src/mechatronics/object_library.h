@@ -67,7 +67,10 @@ class ObjectLibrary {
 public:
     // Reads `path` and appends its folders (folders of the same name merge).
     // Problems go to errors(); an object with a problem is not added.
-    void load_file(const std::string& path);
+    // A file already loaded (the same file by its real path, however it is
+    // named) is skipped: a drive file and the command line may both name the
+    // bundled library. Returns false when the file cannot be read.
+    bool load_file(const std::string& path);
     // The same from text in memory (`file` names it in errors).
     void load_text(const std::string& text, const std::string& file);
 
@@ -87,6 +90,7 @@ public:
 private:
     std::vector<LibraryFolder> folders_;
     std::vector<LibraryError> errors_;
+    std::vector<std::string> loaded_files_;  // real paths
     std::map<std::string, std::pair<size_t, size_t>> class_index_;  // "folder\nclass" -> indices
     std::map<std::string, std::string> id_owner_;                  // ID -> "file:line"
 };
