@@ -281,7 +281,7 @@ void MechatronicBuilder::add_drive(int index) {
         shaft = rotor + ".flange_b";
     }
     const std::string gear = add("motor_gear", kRotational + "Components.IdealGear",
-                                 {{"ratio", number_text(d.motor_gear_ratio)}},
+                                 {{"ratio", number_text(d.motor.ratio)}},
                                  "built-in gear of motor " + quoted(d.motor_name) + " (motor turns per output turn)");
     connect(shaft, gear + ".flange_a");
     shaft = gear + ".flange_b";

@@ -25,12 +25,11 @@ std::string user_model_file(const std::string& package, const ExportSettings& se
                             bool mechatronic) {
     const double stop = stop_time > 0 ? stop_time : settings.stop_time > 0 ? settings.stop_time : 10;
     const std::string head =
-        mechatronic ? "// Your model: mbx writes this file once and never overwrites it.\n"
-                      "// Mechanics.mo and Mechatronic.mo (the drives on Mechanics) are regenerated on\n"
-                      "// every export; add your components and equations here.\n"
-                    : "// Your model: mbx writes this file once and never overwrites it.\n"
-                      "// Mechanics.mo is regenerated on every export; add your components and\n"
-                      "// equations here (actuators on the axis_*/support_* flanges, sensors, ...).\n";
+        std::string("// Your model: mbx writes this file once and never overwrites it.\n") +
+        (mechatronic ? "// Mechanics.mo and Mechatronic.mo (the drives on Mechanics) are regenerated on\n"
+                       "// every export; add your components and equations here.\n"
+                     : "// Mechanics.mo is regenerated on every export; add your components and\n"
+                       "// equations here (actuators on the axis_*/support_* flanges, sensors, ...).\n");
     const std::string base = mechatronic ? "Mechatronic" : "Mechanics";
     return head + "within " + package + ";\n" + "model UserModel \"" + base + " of '" + package +
            "' plus your additions\"\n"

@@ -21,14 +21,6 @@ void set_number(pugi::xml_node node, const char* name, double v) {
     node.append_attribute(name) = number_text(v).c_str();
 }
 
-Subject joint_subject(const Mechanism& m, const Joint& joint) {
-    if (joint.constraint >= 0 && size_t(joint.constraint) < m.assembly.constraints.size()) {
-        const Constraint& c = m.assembly.constraints[size_t(joint.constraint)];
-        return Subject::constraint(c.id, c.name);
-    }
-    return Subject::constraint({}, joint.name);
-}
-
 // Inertial, with the body's CoM and inertia moved into the link frame.
 void write_inertial(pugi::xml_node link, const RigidBody& body, const Pose& link_in_body) {
     const Pose body_in_link = link_in_body.inverse();
@@ -140,13 +132,13 @@ void add_notes(ExportModel& model, const UrdfLayout& L) {
         const Joint& joint = m.joints[size_t(u.source)];
         const std::string& name = L.joint_name[size_t(u.source)];
         if (u.spherical_axis == 0)
-            model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, joint_subject(m, joint),
+            model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),
                        "URDF has no spherical joint: '" + joint.name + "' is exported as three continuous revolutes " +
                            name + "_x, " + name + "_y, " + name +
                            "_z about the x, y, z axes of its joint frame (two massless links between them); "
                            "singular where the middle angle is +-90 degrees");
         if (u.default_range)
-            model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, joint_subject(m, joint),
+            model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),
                        "prismatic joint '" + joint.name + "' has no CAD limits; URDF requires some, so it is given +-" +
                            number_text(kUrdfPrismaticRange) + " m");
     }

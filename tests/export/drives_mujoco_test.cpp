@@ -23,14 +23,13 @@ namespace {
 const Vec3 kGravity(0, 0, -9.81);
 
 // Composite inertia about joint j's axis and gravity torque about it, for
-// the tree at the joint coordinates q.
+// the tree at body poses `poses` (forward kinematics at the coordinates).
 struct AxisLoad {
     double inertia = 0;
     double gravity_torque = 0;
 };
 
-AxisLoad axis_load(const Mechanism& m, ExportModel& em, int j, const std::vector<JointPosition>& q) {
-    const std::vector<Pose> poses = forward_kinematics(m, q);
+AxisLoad axis_load(const Mechanism& m, ExportModel& em, int j, const std::vector<Pose>& poses) {
     const Joint& joint = m.joints[size_t(j)];
     const JointPlacement& p = em.placement(j);
     const Pose frame = poses[size_t(joint.parent)] * p.parent_to_joint;
@@ -106,9 +105,10 @@ TEST_CASE("drives: MuJoCo follows the arm's motion program as the controllers' d
             q_ref[size_t(a.drive->joint)].value = a.drive->spec.motion.at(time).position;
             data->ctrl[a.actuator] = a.drive->ratio * q_ref[size_t(a.drive->joint)].value;
         }
+        const std::vector<Pose> poses = forward_kinematics(m, q_ref);
         for (Axis& a : axes) {
             const MotionSample r = a.drive->spec.motion.at(time);
-            const AxisLoad load = axis_load(m, em, a.drive->joint, q_ref);
+            const AxisLoad load = axis_load(m, em, a.drive->joint, poses);
             const double J = a.drive->armature + load.inertia;
             // Semi-implicit Euler on the design's error dynamics, at MuJoCo's step.
             const double dde = (J * r.acceleration + a.damping * r.velocity - load.gravity_torque -
@@ -147,7 +147,8 @@ TEST_CASE("drives: MuJoCo follows the arm's motion program as the controllers' d
     std::vector<JointPosition> sagged(m.joints.size());
     for (int iteration = 0; iteration < 50; ++iteration)
         for (const Axis& a : axes)
-            sagged[size_t(a.drive->joint)].value = axis_load(m, em, a.drive->joint, sagged).gravity_torque / a.stiffness;
+            sagged[size_t(a.drive->joint)].value =
+                axis_load(m, em, a.drive->joint, forward_kinematics(m, sagged)).gravity_torque / a.stiffness;
     for (const Axis& a : axes) {
         const double expected = sagged[size_t(a.drive->joint)].value;
         INFO("drive " << a.drive->name << ": static sag " << expected << " rad, MuJoCo " << data->qpos[a.qpos]);

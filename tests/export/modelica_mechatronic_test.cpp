@@ -66,7 +66,6 @@ Drive make_drive(const Mechanism& m, const std::string& name, const std::string&
     d.joint = joint_named(m, joint);
     d.linear = m.joints[size_t(d.joint)].type == MBX_PRIMITIVE_PRISMATIC;
     d.motor_name = motor.name;
-    d.motor_class_modelica = "Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_PermanentMagnet";
     const double w = motor.rpm * 2 * kPi / 60;
     d.motor.torque_constant = (motor.Va - motor.Ra * motor.Ia) / w;
     d.motor.stall_torque = d.motor.torque_constant * motor.Va / motor.Ra;
@@ -76,7 +75,6 @@ Drive make_drive(const Mechanism& m, const std::string& name, const std::string&
     d.motor.reflected_inertia = motor.J * motor.ratio * motor.ratio;
     d.armature_resistance = motor.Ra;
     d.armature_inductance = motor.La;
-    d.motor_gear_ratio = motor.ratio;
     if (transmission) {
         d.transmission_name = transmission->name;
         d.transmission_kind = transmission->kind;
@@ -84,14 +82,13 @@ Drive make_drive(const Mechanism& m, const std::string& name, const std::string&
         d.transmission_inertia = transmission->J;
         d.efficiency = transmission->efficiency;
     }
-    d.ratio = d.motor_gear_ratio * d.transmission_ratio;
+    d.ratio = d.motor.ratio * d.transmission_ratio;
     d.armature = d.motor.rotor_inertia * d.ratio * d.ratio +
                  d.transmission_inertia * d.transmission_ratio * d.transmission_ratio;
     const bool voltage = amplifier.mode == AmplifierMode::Voltage;
     d.output_limit = controller.output_limit > 0 ? controller.output_limit : motor.Va;
     const double max_current = voltage ? d.output_limit / motor.Ra : amplifier.gain * d.output_limit;
-    d.motor_torque_limit = d.motor.torque_constant * max_current;
-    d.effort_limit = d.efficiency * d.ratio * d.motor_torque_limit;
+    d.effort_limit = d.efficiency * d.ratio * d.motor.torque_constant * max_current;
     d.velocity_limit = (voltage ? d.output_limit : motor.Va) / d.motor.torque_constant / d.ratio;
     d.servo = servo_equivalent(d);
     return d;

@@ -30,18 +30,11 @@ std::string problem_text(const LibraryError& e) {
                 message, first.file, first.line);
 }
 
-// The first drive of `spec` that resolve_drives left out (every drive with a
-// problem is left out, the others come back in order), or null.
+// The first drive of `spec` that resolve_drives left out (the others come
+// back in order, each with its source index), or null.
 const DriveSpec* first_unresolved(const MechatronicSpec& spec, const std::vector<Drive>& resolved) {
-    size_t next = 0;
-    for (const DriveSpec& s : spec.drives) {
-        const DriveSpec* r = next < resolved.size() ? &resolved[next].spec : nullptr;
-        if (r && r->joint.constraint_id == s.joint.constraint_id && r->joint.primitive == s.joint.primitive &&
-            r->name == s.name && r->motor_id == s.motor_id && r->file == s.file && r->line == s.line)
-            ++next;
-        else
-            return &s;
-    }
+    for (size_t i = 0; i < spec.drives.size(); ++i)
+        if (i >= resolved.size() || resolved[i].source != int(i)) return &spec.drives[i];
     return nullptr;
 }
 
@@ -154,7 +147,7 @@ MBX_API mbx_status mbx_mechatronics_add_drive(mbx_context* context, mbx_mechatro
         const int ve = raw_enum(c->velocity_estimate);
         if (!valid_enum(ve, MBX_VELOCITY_FILTERED_DIFFERENCE)) bad("unknown velocity_estimate " + std::to_string(ve));
         d.controller.velocity_estimate = VelocityEstimate(ve);
-        for (double v : {c->kp, c->ki, c->kd, c->kv, c->kvi, c->sample_period, c->delay, c->output_limit})
+        for (const auto& [name, v] : controller_values(d.controller))
             if (!std::isfinite(v) || v < 0) bad("controller values must be finite and not negative");
         if (desc->override_count && !desc->overrides) bad("overrides is NULL with override_count > 0");
         for (uint32_t i = 0; i < desc->override_count; ++i) {

@@ -22,31 +22,24 @@ std::string joint_text(const JointRef& ref) {
            (ref.primitive >= 0 ? " primitive " + std::to_string(ref.primitive) : std::string());
 }
 
-// An object with the drive's overrides applied, checked against the
-// declarations (editable, bounds).
-struct Overridden {
-    LibraryObject object;
-    bool ok = true;
-};
-
-Overridden apply_overrides(const ObjectLibrary::Found& f, const std::map<std::string, double>& overrides,
-                           const std::function<void(std::string)>& error) {
-    Overridden o{*f.object};
+// The object with the drive's overrides applied, each checked against its
+// declaration (editable, bounds); a refused one is reported and not applied.
+LibraryObject apply_overrides(const ObjectLibrary::Found& f, const std::map<std::string, double>& overrides,
+                              const std::function<void(std::string)>& error) {
+    LibraryObject o = *f.object;
     for (const auto& [name, value] : overrides) {
         const ParameterDecl* d = f.cls->parameter(name);
         if (!d) continue;  // belongs to the other object of the drive (motor or transmission)
         if (!d->editable) {
             error("parameter '" + name + "' of '" + f.object->name + "' is not editable");
-            o.ok = false;
             continue;
         }
         if (!std::isfinite(value) || (d->lower && value < *d->lower) || (d->upper && value > *d->upper)) {
             error("override " + name + " = " + short_number(value) + " " + d->unit + " is outside the bounds of '" +
                   f.cls->name + "'");
-            o.ok = false;
             continue;
         }
-        ParameterValue& v = o.object.values[name];
+        ParameterValue& v = o.values[name];
         v.number = value;
         v.text = std::to_string(value);
     }
@@ -54,7 +47,7 @@ Overridden apply_overrides(const ObjectLibrary::Found& f, const std::map<std::st
 }
 
 bool valid_controller(const ControllerSpec& c, std::string& why) {
-    for (double v : {c.kp, c.ki, c.kd, c.kv, c.kvi, c.sample_period, c.delay, c.output_limit})
+    for (const auto& [name, v] : controller_values(c))
         if (!std::isfinite(v) || v < 0) {
             why = "controller gains, sample period, delay and output limit must be finite and not negative";
             return false;
@@ -71,17 +64,70 @@ bool valid_controller(const ControllerSpec& c, std::string& why) {
         why = "a velocity estimate from samples needs a sample period";
         return false;
     }
-    if (c.sample_period > 0) {
-        const double samples = c.delay / c.sample_period;
-        if (std::fabs(samples - std::round(samples)) > 1e-9 * std::max(1.0, samples)) {
-            why = "a discrete controller's delay must be a whole number of sample periods";
-            return false;
-        }
+    if (!delay_in_whole_samples(c)) {
+        why = "a discrete controller's delay must be a whole number of sample periods";
+        return false;
     }
     return true;
 }
 
+using JointIndex = std::unordered_map<std::string, std::vector<int>>;
+
+// The one prismatic or revolute joint `ref` names, or -1 with `why`.
+int find_joint(const JointRef& ref, const JointIndex& joints_of, const Mechanism& m, std::string& why) {
+    const auto it = joints_of.find(ref.constraint_id);
+    if (it == joints_of.end()) {
+        why = "no constraint with id '" + ref.constraint_id + "' in the assembly";
+        return -1;
+    }
+    std::vector<int> candidates;
+    for (int j : it->second) {
+        const Joint& joint = m.joints[size_t(j)];
+        if (ref.primitive >= 0 ? joint.primitive_index == ref.primitive
+                               : joint.type == MBX_PRIMITIVE_REVOLUTE || joint.type == MBX_PRIMITIVE_PRISMATIC)
+            candidates.push_back(j);
+    }
+    if (candidates.empty()) {
+        why = joint_text(ref) + " has no " +
+              (ref.primitive >= 0 ? "such primitive joint (welds are merged away)" : "prismatic or revolute primitive");
+        return -1;
+    }
+    if (candidates.size() > 1) {
+        why = joint_text(ref) + " has " + std::to_string(candidates.size()) +
+              " prismatic/revolute primitives: say which with a primitive index";
+        return -1;
+    }
+    const Joint& joint = m.joints[size_t(candidates.front())];
+    if (joint.type != MBX_PRIMITIVE_REVOLUTE && joint.type != MBX_PRIMITIVE_PRISMATIC) {
+        why = "joint '" + joint.name + "' is " + (joint.type == MBX_PRIMITIVE_SPHERICAL ? "spherical" : "a weld") +
+              ": only prismatic and revolute joints can be driven";
+        return -1;
+    }
+    if (joint.cut) {
+        why = "joint '" + joint.name + "' closes a loop (cut joint): drive a tree joint of the loop instead";
+        return -1;
+    }
+    return candidates.front();
+}
+
 }  // namespace
+
+std::array<std::pair<const char*, double>, 8> controller_values(const ControllerSpec& c) {
+    return {{{"kp", c.kp},
+             {"ki", c.ki},
+             {"kd", c.kd},
+             {"kv", c.kv},
+             {"kvi", c.kvi},
+             {"sample_period", c.sample_period},
+             {"delay", c.delay},
+             {"output_limit", c.output_limit}}};
+}
+
+bool delay_in_whole_samples(const ControllerSpec& c) {
+    if (!(c.sample_period > 0)) return true;
+    const double samples = c.delay / c.sample_period;
+    return std::fabs(samples - std::round(samples)) <= 1e-9 * std::max(1.0, samples);
+}
 
 ServoEquivalent servo_equivalent(const Drive& d) {
     ServoEquivalent s;
@@ -116,7 +162,7 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
     out.reserve(spec.drives.size());
     // Constraint id -> its joints (empty for welds merged away), hashed once:
     // lookups stay flat on large assemblies.
-    std::unordered_map<std::string, std::vector<int>> joints_of;
+    JointIndex joints_of;
     joints_of.reserve(m.assembly.constraints.size());
     for (const Constraint& c : m.assembly.constraints) joints_of[c.id];
     for (size_t j = 0; j < m.joints.size(); ++j) {
@@ -125,57 +171,31 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
         joints_of[m.assembly.constraints[size_t(joint.constraint)].id].push_back(int(j));
     }
     std::vector<char> driven(m.joints.size(), 0);
-    for (const DriveSpec& s : spec.drives) {
+    for (size_t index = 0; index < spec.drives.size(); ++index) {
+        const DriveSpec& s = spec.drives[index];
         const std::string who = s.name.empty() ? s.joint.constraint_id : s.name;
         bool good = true;
         auto error = [&](std::string message) {
             errors.push_back({s.file, s.line, who, std::move(message)});
             good = false;
         };
+        std::string why;
 
         // The joint.
         Drive d;
-        d.spec = s;
-        const auto it = joints_of.find(s.joint.constraint_id);
-        if (it == joints_of.end()) {
-            error("no constraint with id '" + s.joint.constraint_id + "' in the assembly");
+        d.source = int(index);
+        d.joint = find_joint(s.joint, joints_of, m, why);
+        if (d.joint < 0) {
+            error(why);
             continue;
         }
-        std::vector<int> candidates;
-        for (int j : it->second) {
-            const Joint& joint = m.joints[size_t(j)];
-            if (s.joint.primitive >= 0 ? joint.primitive_index == s.joint.primitive
-                                       : joint.type == MBX_PRIMITIVE_REVOLUTE || joint.type == MBX_PRIMITIVE_PRISMATIC)
-                candidates.push_back(j);
-        }
-        if (candidates.empty()) {
-            error(joint_text(s.joint) + " has no " +
-                  (s.joint.primitive >= 0 ? "such primitive joint (welds are merged away)"
-                                          : "prismatic or revolute primitive"));
-            continue;
-        }
-        if (candidates.size() > 1) {
-            error(joint_text(s.joint) + " has " + std::to_string(candidates.size()) +
-                  " prismatic/revolute primitives: say which with a primitive index");
-            continue;
-        }
-        d.joint = candidates.front();
         const Joint& joint = m.joints[size_t(d.joint)];
-        d.name = s.name.empty() ? joint.name : s.name;
-        if (joint.type != MBX_PRIMITIVE_REVOLUTE && joint.type != MBX_PRIMITIVE_PRISMATIC) {
-            error("joint '" + joint.name + "' is " + (joint.type == MBX_PRIMITIVE_SPHERICAL ? "spherical" : "a weld") +
-                  ": only prismatic and revolute joints can be driven");
-            continue;
-        }
-        if (joint.cut) {
-            error("joint '" + joint.name + "' closes a loop (cut joint): drive a tree joint of the loop instead");
-            continue;
-        }
         if (driven[size_t(d.joint)]) {
             error("joint '" + joint.name + "' is driven twice");
             continue;
         }
-        driven[size_t(d.joint)] = 1;
+        d.spec = s;
+        d.name = s.name.empty() ? joint.name : s.name;
         d.linear = joint.type == MBX_PRIMITIVE_PRISMATIC;
         const bool angle_unit = s.motion_unit == "rad" || s.motion_unit == "deg";
         const bool length_unit = s.motion_unit == "m" || s.motion_unit == "mm";
@@ -214,22 +234,19 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
             const bool declared = motor.cls->parameter(name) || (transmission.cls && transmission.cls->parameter(name));
             if (!declared) error("override of unknown parameter '" + name + "'");
         }
-        const Overridden mo = apply_overrides(motor, s.overrides, error);
-        const ObjectLibrary::Found motor_found{motor.cls, &mo.object};
-        std::string why;
+        const LibraryObject motor_object = apply_overrides(motor, s.overrides, error);
+        const ObjectLibrary::Found motor_found{motor.cls, &motor_object};
         const std::optional<DcMotorConstants> mc = dc_motor_constants(spec.library, motor_found, why);
         if (!mc) error("motor '" + motor.object->name + "': " + why);
         if (!good) continue;
         d.motor = *mc;
         d.motor_name = motor.object->name;
-        d.motor_class_modelica = motor.cls->modelica;
         d.armature_resistance = spec.library.si_value(motor_found, "Ra").value_or(0);
         d.armature_inductance = spec.library.si_value(motor_found, "La").value_or(0);
-        d.motor_gear_ratio = d.motor.ratio;
 
         if (transmission.object) {
-            const Overridden to = apply_overrides(transmission, s.overrides, error);
-            const ObjectLibrary::Found t_found{transmission.cls, &to.object};
+            const LibraryObject transmission_object = apply_overrides(transmission, s.overrides, error);
+            const ObjectLibrary::Found t_found{transmission.cls, &transmission_object};
             const std::optional<TransmissionConstants> tc = transmission_constants(spec.library, t_found, why);
             if (!tc) error("transmission '" + transmission.object->name + "': " + why);
             if (!good) continue;
@@ -247,7 +264,7 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
             error("the prismatic joint '" + joint.name + "' needs a ball_screw transmission to turn motor rotation into travel");
             continue;
         }
-        d.ratio = d.motor_gear_ratio * d.transmission_ratio;
+        d.ratio = d.motor.ratio * d.transmission_ratio;
         d.armature = d.motor.rotor_inertia * d.ratio * d.ratio +
                      d.transmission_inertia * d.transmission_ratio * d.transmission_ratio;
 
@@ -268,10 +285,10 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
             continue;
         }
         const double max_current = voltage ? d.output_limit / d.armature_resistance : s.amplifier.gain * d.output_limit;
-        d.motor_torque_limit = d.motor.torque_constant * max_current;
-        d.effort_limit = d.efficiency * d.ratio * d.motor_torque_limit;
+        d.effort_limit = d.efficiency * d.ratio * d.motor.torque_constant * max_current;
         d.velocity_limit = (voltage ? d.output_limit : va_nominal) / d.motor.torque_constant / d.ratio;
         d.servo = servo_equivalent(d);
+        driven[size_t(d.joint)] = 1;  // only a drive that resolved claims its joint
         out.push_back(std::move(d));
     }
     return out;

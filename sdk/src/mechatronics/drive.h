@@ -4,8 +4,10 @@
 // primitive index), so it survives a re-export; it is resolved against a
 // translated mechanism only when a consumer needs it.
 #pragma once
+#include <array>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mechatronics/drive_quantities.h"
@@ -44,6 +46,14 @@ struct ControllerSpec {
     double output_limit = 0;   // |u| bound; 0: the amplifier's natural limit (VaNominal in voltage mode)
     VelocityEstimate velocity_estimate = VelocityEstimate::Measured;
 };
+
+// The controller's numbers by name, for the checks that treat them alike
+// (finite, not negative) wherever a controller comes in.
+std::array<std::pair<const char*, double>, 8> controller_values(const ControllerSpec& c);
+
+// A discrete controller's delay is a whole number of samples (within 1e-9
+// relative); always true for a continuous one.
+bool delay_in_whole_samples(const ControllerSpec& c);
 
 struct AmplifierSpec {
     AmplifierMode mode = AmplifierMode::Voltage;
@@ -107,21 +117,21 @@ struct Drive {
     DriveSpec spec;
     std::string name;   // spec.name, or the joint's name
     int joint = -1;     // Mechanism::joints index
+    int source = -1;    // MechatronicSpec::drives index it was resolved from
     bool linear = false;  // prismatic joint (efforts in N, inertia in kg)
-    std::string motor_name, motor_class_modelica;
+    std::string motor_name;
     std::string transmission_name, transmission_kind;  // "" when none
-    DcMotorConstants motor;             // with the drive's overrides applied
+    DcMotorConstants motor;             // with the drive's overrides applied; motor.ratio is the built-in gear
     double armature_resistance = 0;     // Ra, Ohm
     double armature_inductance = 0;     // La, H
-    double motor_gear_ratio = 1;        // the motor's built-in gear (Ratio)
     double transmission_ratio = 1;      // gearbox ratio, or 2 pi / lead for a screw (rad/m)
     double transmission_inertia = 0;    // at the transmission input, kg m^2
     double efficiency = 1;              // transmission efficiency (1 without one)
-    double ratio = 1;                   // motor shaft rad per joint unit: motor_gear_ratio * transmission_ratio
+    double ratio = 1;                   // motor shaft rad per joint unit: motor.ratio * transmission_ratio
     double armature = 0;                // rotor and transmission inertia at the joint, kg m^2 or kg
     double output_limit = 0;            // resolved controller output bound (V, or amplifier units)
-    double motor_torque_limit = 0;      // k * (largest armature current), N m at the motor shaft
-    double effort_limit = 0;            // efficiency * ratio * motor_torque_limit, N m or N at the joint
+    // efficiency * ratio * k * (largest armature current), N m or N at the joint
+    double effort_limit = 0;
     // Joint speed at which the back-EMF alone takes the whole supply (output
     // limit in voltage mode, VaNominal in current mode), rad/s or m/s.
     double velocity_limit = 0;

@@ -29,20 +29,9 @@ void check(bool ok, const std::string& why) {
 }  // namespace
 
 DriveController::DriveController(const ControllerSpec& spec) : spec_(spec) {
-    const struct {
-        const char* name;
-        double value;
-    } fields[] = {{"kp", spec.kp},
-                  {"ki", spec.ki},
-                  {"kd", spec.kd},
-                  {"kv", spec.kv},
-                  {"kvi", spec.kvi},
-                  {"sample_period", spec.sample_period},
-                  {"delay", spec.delay},
-                  {"output_limit", spec.output_limit}};
-    for (const auto& f : fields) {
-        check(std::isfinite(f.value), std::string(f.name) + " must be finite");
-        check(f.value >= 0, std::string(f.name) + " must not be negative (got " + num(f.value) + ")");
+    for (const auto& [name, value] : controller_values(spec)) {
+        check(std::isfinite(value), std::string(name) + " must be finite");
+        check(value >= 0, std::string(name) + " must not be negative (got " + num(value) + ")");
     }
     // Without a velocity loop the law has no place for kvi; accepting it
     // would silently drop integral action the user asked for.
@@ -57,7 +46,7 @@ DriveController::DriveController(const ControllerSpec& spec) : spec_(spec) {
         }
     } else {
         const double samples = spec.delay / spec.sample_period;
-        check(std::fabs(samples - std::round(samples)) <= 1e-9 * std::max(1.0, samples),
+        check(delay_in_whole_samples(spec),
               "a discrete controller's delay must be a whole number of sample periods (delay " +
                   num(spec.delay) + " s, sample_period " + num(spec.sample_period) + " s)");
         check(samples <= kMaxDelaySamples, "delay of more than 1e7 samples");

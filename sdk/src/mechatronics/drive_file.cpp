@@ -182,21 +182,15 @@ private:
         out.sample_period = number(c, "sample_period", 0, who);
         out.delay = number(c, "delay", 0, who);
         out.output_limit = number(c, "output_limit", 0, who);
-        const std::pair<const char*, double> values[] = {
-            {"kp", out.kp},   {"ki", out.ki}, {"kd", out.kd}, {"kv", out.kv}, {"kvi", out.kvi},
-            {"sample_period", out.sample_period}, {"delay", out.delay}, {"output_limit", out.output_limit}};
-        for (const auto& [name, value] : values)
+        for (const auto& [name, value] : controller_values(out))
             if (value < 0) error(c, who, std::string(name) + " must not be negative");
         const std::string ve = c.attribute("velocity_estimate").as_string("measured");
         if (!parse_velocity_estimate(ve, out.velocity_estimate))
             error(c, who, "velocity_estimate '" + ve + "' is not measured, difference or filtered_difference");
         else if (out.velocity_estimate != VelocityEstimate::Measured && !(out.sample_period > 0))
             error(c, who, "velocity_estimate '" + ve + "' needs a sample_period");
-        if (out.sample_period > 0) {
-            const double samples = out.delay / out.sample_period;
-            if (std::fabs(samples - std::round(samples)) > 1e-9 * std::max(1.0, samples))
-                error(c, who, "delay must be a whole number of sample periods for a discrete controller");
-        }
+        if (!delay_in_whole_samples(out))
+            error(c, who, "delay must be a whole number of sample periods for a discrete controller");
     }
 
     void motion(const pugi::xml_node& m, const std::string& who, DriveSpec& d) {
