@@ -1,0 +1,102 @@
+// The mutable side of a simulation: state, inputs and every workspace buffer
+// the algorithms need, sized once from a model so that stepping allocates
+// nothing. One data object per rollout; any number may share a model.
+#pragma once
+#include <vector>
+
+#include "sim/closure_factor.h"
+#include "sim/drive_state.h"
+#include "sim/model.h"
+
+namespace mbx::sim {
+
+struct RunStats {
+    long long steps = 0;
+    long long evaluations = 0;     // forward dynamics calls
+    long long mode_switches = 0;   // accurate mode: friction stick/slip switches
+    double max_closure_residual = 0;  // m (or rad), after projection
+};
+
+template <class S> struct DataT {
+    S time = S(0);
+    VecXT<S> q, v;          // state
+    VecXT<S> qacc;          // last computed acceleration
+    VecXT<S> effort;        // external effort input per velocity coordinate (N m, N; free joints: world force, body moment)
+    VecXT<S> qfrc_passive;  // joint dynamics (damping, friction, springs, limits) at the last evaluation
+    VecXT<S> qfrc_drive;    // drives at the last evaluation
+    VecXT<S> qfrc_total;    // everything applied: effort + passive + drive
+
+    // Kinematics (per body; [0] is the world).
+    std::vector<Transform<S>> x_parent;  // body in its parent
+    std::vector<Transform<S>> x_world;   // body in world
+    std::vector<SubspaceT<S>> subspace;  // joint motion subspace, body coordinates
+    std::vector<Vec6T<S>> vel;           // spatial velocity, body coordinates
+    std::vector<Vec6T<S>> acc;           // spatial acceleration, body coordinates
+    std::vector<Vec6T<S>> bias_acc;      // velocity-product acceleration of each joint
+    std::vector<Vec6T<S>> acc_velocity;  // body acceleration with zero qacc and no gravity (loop closure bias)
+    std::vector<Vec6T<S>> force;         // RNEA body forces
+
+    // Articulated-body workspaces.
+    std::vector<Mat6T<S>> articulated;
+    std::vector<Vec6T<S>> bias_force;
+    std::vector<SubspaceT<S>> U;
+    std::vector<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> D_inv;
+    std::vector<Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6, 1>> u;
+
+    // Composite inertias and the joint-space matrices.
+    std::vector<Inertia<S>> composite;
+    MatXT<S> M;     // mass matrix (with armature)
+    VecXT<S> bias;  // C(q, v) v + g(q): the effort that holds the state with zero acceleration
+
+    // Loop closure rows at the current state.
+    MatXT<S> J;         // closure_rows x nv
+    VecXT<S> residual;  // closure_rows
+    VecXT<S> gamma;     // -Jdot v
+
+    // Constrained solve workspaces.
+    ClosureFactor<S> closure_factor;
+    MatXT<S> reduced_mass;  // N^T M N
+
+    // Per-dof workspaces.
+    VecXT<S> tmp_v, tmp_v2;
+
+    // Drives in the loop (double models only) and run statistics.
+    DriveLoop drives;
+    RunStats stats;
+
+    explicit DataT(const ModelT<S>& m) : drives(m.drives) {
+        const size_t nb = m.bodies.size();
+        q = m.q_reference;
+        v = VecXT<S>::Zero(m.nv);
+        qacc = effort = qfrc_passive = qfrc_drive = qfrc_total = tmp_v = tmp_v2 = VecXT<S>::Zero(m.nv);
+        x_parent.resize(nb);
+        x_world.resize(nb);
+        subspace.resize(nb);
+        vel.assign(nb, Vec6T<S>::Zero());
+        acc.assign(nb, Vec6T<S>::Zero());
+        bias_acc.assign(nb, Vec6T<S>::Zero());
+        acc_velocity.assign(nb, Vec6T<S>::Zero());
+        force.assign(nb, Vec6T<S>::Zero());
+        articulated.assign(nb, Mat6T<S>::Zero());
+        bias_force.assign(nb, Vec6T<S>::Zero());
+        U.resize(nb);
+        D_inv.resize(nb);
+        u.resize(nb);
+        for (size_t b = 1; b < nb; ++b) {
+            subspace[b] = m.joints[b - 1].subspace;
+            const int n = m.joints[b - 1].nv();
+            U[b].setZero(6, n);
+            D_inv[b].setZero(n, n);
+            u[b].setZero(n);
+        }
+        composite.resize(nb);
+        M = MatXT<S>::Zero(m.nv, m.nv);
+        bias = VecXT<S>::Zero(m.nv);
+        J = MatXT<S>::Zero(m.closure_rows, m.nv);
+        residual = gamma = VecXT<S>::Zero(m.closure_rows);
+    }
+};
+
+using Data = DataT<double>;
+
+}  // namespace mbx::sim

@@ -1,0 +1,228 @@
+// The rigid-body algorithms over (model, data), in body coordinates
+// (Featherstone, "Rigid Body Dynamics Algorithms", 2008): forward kinematics
+// and velocities, recursive Newton-Euler (inverse dynamics), composite rigid
+// body (mass matrix), articulated body (forward dynamics of the tree),
+// Jacobians and energy. Loop closures are in sim/loop_closure.h; the
+// constrained forward dynamics that uses both in sim/forward_dynamics.h.
+// Written once on the scalar S: double, or a Ceres Jet for calibration.
+#pragma once
+#include <cmath>
+#include <string>
+
+#include "sim/data.h"
+
+namespace mbx::sim {
+
+// Body poses and each joint's motion subspace from data.q.
+template <class S> void update_positions(const ModelT<S>& m, DataT<S>& d) {
+    d.x_world[0] = Transform<S>();
+    for (size_t b = 1; b < m.bodies.size(); ++b) {
+        const JointT<S>& j = m.joints[b - 1];
+        const Transform<S> motion = joint_transform<S>(j.kind, j.axis, d.q.data() + j.q_index);
+        d.x_parent[b] = j.parent_to_joint * motion * j.joint_to_child;
+        d.x_world[b] = d.x_world[size_t(m.bodies[b].parent)] * d.x_parent[b];
+        if (j.kind == JointKind::Free) {
+            // Linear velocity in the parent frame, angular in the body frame.
+            SubspaceT<S>& s = d.subspace[b];
+            s.setZero(6, 6);
+            s.template block<3, 3>(3, 0) = motion.R.transpose();
+            s.template block<3, 3>(0, 3).setIdentity();
+        }
+    }
+}
+
+// Spatial velocities (body coordinates) and the joints' velocity-product
+// accelerations; needs update_positions.
+template <class S> void update_velocities(const ModelT<S>& m, DataT<S>& d) {
+    d.vel[0].setZero();
+    for (size_t b = 1; b < m.bodies.size(); ++b) {
+        const JointT<S>& j = m.joints[b - 1];
+        const Vec6T<S> vj = d.subspace[b] * d.v.segment(j.v_index, j.nv());
+        d.vel[b] = d.x_parent[b].motion_to_child(d.vel[size_t(m.bodies[b].parent)]) + vj;
+        Vec6T<S> c = cross_motion<S>(d.vel[b], vj);
+        if (j.kind == JointKind::Free) {
+            // d/dt of the subspace's R^T: the body-frame linear velocity turns with the body.
+            const Vec3T<S> w = d.v.template segment<3>(j.v_index + 3);
+            c.template tail<3>() -= w.cross(vj.template tail<3>());
+        }
+        d.bias_acc[b] = c;
+    }
+}
+
+template <class S> void update_kinematics(const ModelT<S>& m, DataT<S>& d) {
+    update_positions(m, d);
+    update_velocities(m, d);
+}
+
+// Recursive Newton-Euler: the joint efforts that give acceleration qacc at
+// (data.q, data.v) with gravity (when `with_gravity`), armature included.
+// Needs update_kinematics.
+template <class S>
+void inverse_dynamics(const ModelT<S>& m, DataT<S>& d, const VecXT<S>& qacc, VecXT<S>& tau, bool with_gravity = true) {
+    d.acc[0].setZero();
+    if (with_gravity) d.acc[0].template tail<3>() = -m.gravity;
+    const size_t nb = m.bodies.size();
+    for (size_t b = 1; b < nb; ++b) {
+        const JointT<S>& j = m.joints[b - 1];
+        d.acc[b] = d.x_parent[b].motion_to_child(d.acc[size_t(m.bodies[b].parent)]) +
+                   d.subspace[b] * qacc.segment(j.v_index, j.nv()) + d.bias_acc[b];
+        const Inertia<S>& I = m.bodies[b].inertia;
+        d.force[b] = I * d.acc[b] + cross_force<S>(d.vel[b], I * d.vel[b]);
+    }
+    tau.resize(m.nv);
+    for (size_t b = nb - 1; b >= 1; --b) {
+        const JointT<S>& j = m.joints[b - 1];
+        tau.segment(j.v_index, j.nv()) = d.subspace[b].transpose() * d.force[b];
+        if (j.nv() == 1) tau[j.v_index] += j.dynamics.armature * qacc[j.v_index];
+        const int p = m.bodies[b].parent;
+        if (p > 0) d.force[size_t(p)] += d.x_parent[b].force_to_parent(d.force[b]);
+    }
+}
+
+// Composite rigid body algorithm: data.M, armature on the diagonal. Needs update_positions.
+template <class S> void mass_matrix(const ModelT<S>& m, DataT<S>& d) {
+    const size_t nb = m.bodies.size();
+    for (size_t b = 1; b < nb; ++b) d.composite[b] = m.bodies[b].inertia;
+    for (size_t b = nb - 1; b >= 1; --b) {
+        const int p = m.bodies[b].parent;
+        if (p > 0) d.composite[size_t(p)] += d.composite[b].to_parent(d.x_parent[b]);
+    }
+    d.M.setZero(m.nv, m.nv);
+    for (size_t b = 1; b < nb; ++b) {
+        const JointT<S>& j = m.joints[b - 1];
+        const int n = j.nv();
+        SubspaceT<S> F(6, n);
+        for (int k = 0; k < n; ++k) F.col(k) = d.composite[b] * Vec6T<S>(d.subspace[b].col(k));
+        d.M.block(j.v_index, j.v_index, n, n) = d.subspace[b].transpose() * F;
+        if (n == 1) d.M(j.v_index, j.v_index) += j.dynamics.armature;
+        size_t c = b;
+        while (m.bodies[c].parent > 0) {
+            for (int k = 0; k < n; ++k) F.col(k) = d.x_parent[c].force_to_parent(Vec6T<S>(F.col(k)));
+            c = size_t(m.bodies[c].parent);
+            const JointT<S>& jc = m.joints[c - 1];
+            d.M.block(jc.v_index, j.v_index, jc.nv(), n) = d.subspace[c].transpose() * F;
+            d.M.block(j.v_index, jc.v_index, n, jc.nv()) = d.M.block(jc.v_index, j.v_index, jc.nv(), n).transpose();
+        }
+    }
+}
+
+// Thrown by articulated_body when a joint moves no inertia at all (a massless
+// leaf, e.g. a joint node whose chain ends at a cut joint): its acceleration
+// is not determined by the tree alone. forward_dynamics then falls back to
+// the constrained solve, which may determine it.
+struct UndeterminedJoint {
+    int joint = -1;
+};
+
+// Articulated body algorithm: qacc of the tree (no loop closures) under the
+// joint efforts tau, gravity and armature. Needs update_kinematics.
+template <class S> void articulated_body(const ModelT<S>& m, DataT<S>& d, const VecXT<S>& tau, VecXT<S>& qacc) {
+    using std::abs;
+    const size_t nb = m.bodies.size();
+    for (size_t b = 1; b < nb; ++b) {
+        const Inertia<S>& I = m.bodies[b].inertia;
+        d.articulated[b] = I.matrix();
+        d.bias_force[b] = cross_force<S>(d.vel[b], I * d.vel[b]);
+    }
+    for (size_t b = nb - 1; b >= 1; --b) {
+        const JointT<S>& j = m.joints[b - 1];
+        const int n = j.nv();
+        const SubspaceT<S>& s = d.subspace[b];
+        d.U[b].noalias() = d.articulated[b] * s;
+        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> D = s.transpose() * d.U[b];
+        d.u[b] = tau.segment(j.v_index, n) - s.transpose() * d.bias_force[b];
+        if (n == 0) {
+            // A weld: the body rides on its parent.
+        } else if (n == 1) {
+            D(0, 0) += j.dynamics.armature;
+            if (!(abs(D(0, 0)) > m.undetermined_inertia(j.kind))) throw UndeterminedJoint{int(b - 1)};
+            d.D_inv[b](0, 0) = S(1) / D(0, 0);
+        } else {
+            Eigen::LLT<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(D);
+            if (llt.info() != Eigen::Success || !(abs(llt.matrixLLT().diagonal().minCoeff()) >
+                                                  S(std::sqrt(double(m.undetermined_inertia(JointKind::Revolute))))))
+                throw UndeterminedJoint{int(b - 1)};
+            d.D_inv[b] = llt.solve(Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Identity(n, n));
+        }
+        const int p = m.bodies[b].parent;
+        if (p == 0) continue;
+        const SubspaceT<S> UD = d.U[b] * d.D_inv[b];
+        const Mat6T<S> Ia = d.articulated[b] - UD * d.U[b].transpose();
+        const Vec6T<S> pa = d.bias_force[b] + Ia * d.bias_acc[b] + UD * d.u[b];
+        const Mat6T<S> X = d.x_parent[b].motion_matrix_to_child();
+        d.articulated[size_t(p)].noalias() += X.transpose() * Ia * X;
+        d.bias_force[size_t(p)] += d.x_parent[b].force_to_parent(pa);
+    }
+    qacc.resize(m.nv);
+    d.acc[0].setZero();
+    d.acc[0].template tail<3>() = -m.gravity;
+    for (size_t b = 1; b < nb; ++b) {
+        const JointT<S>& j = m.joints[b - 1];
+        const Vec6T<S> a = d.x_parent[b].motion_to_child(d.acc[size_t(m.bodies[b].parent)]) + d.bias_acc[b];
+        auto qa = qacc.segment(j.v_index, j.nv());
+        qa = d.D_inv[b] * (d.u[b] - d.U[b].transpose() * a);
+        d.acc[b] = a + d.subspace[b] * qa;
+    }
+}
+
+// World Jacobian of the point `p_world` fixed on body b: rows [angular;
+// linear velocity of the point], world axes, one column per velocity
+// coordinate. Needs update_positions. J must be 6 x nv; it is overwritten.
+template <class S, class Derived>
+void point_jacobian(const ModelT<S>& m, const DataT<S>& d, int body, const Vec3T<S>& p_world,
+                    Eigen::MatrixBase<Derived> const& J_out) {
+    auto& J = const_cast<Eigen::MatrixBase<Derived>&>(J_out);
+    J.setZero();
+    for (int b = body; b > 0; b = m.bodies[size_t(b)].parent) {
+        const JointT<S>& j = m.joints[size_t(b - 1)];
+        for (int k = 0; k < j.nv(); ++k) {
+            const Vec6T<S> w = d.x_world[size_t(b)].motion_to_parent(Vec6T<S>(d.subspace[size_t(b)].col(k)));
+            J.col(j.v_index + k).template head<3>() = w.template head<3>();
+            J.col(j.v_index + k).template tail<3>() =
+                w.template tail<3>() + w.template head<3>().cross(p_world);
+        }
+    }
+}
+
+// World angular velocity and velocity of a point fixed on body b (needs update_kinematics).
+template <class S> Vec6T<S> point_velocity(const DataT<S>& d, int body, const Vec3T<S>& p_world) {
+    const Vec6T<S> w = d.x_world[size_t(body)].motion_to_parent(d.vel[size_t(body)]);
+    Vec6T<S> r;
+    r.template head<3>() = w.template head<3>();
+    r.template tail<3>() = w.template tail<3>() + w.template head<3>().cross(p_world);
+    return r;
+}
+
+// World angular acceleration and classical acceleration of a point fixed
+// on body b, from data.acc (after inverse_dynamics or articulated_body).
+template <class S> Vec6T<S> point_acceleration(const DataT<S>& d, const Vec6T<S>& acc_body, int body,
+                                               const Vec3T<S>& p_world) {
+    const Vec6T<S> a = d.x_world[size_t(body)].motion_to_parent(acc_body);
+    const Vec6T<S> v = point_velocity(d, body, p_world);
+    Vec6T<S> r;
+    r.template head<3>() = a.template head<3>();
+    r.template tail<3>() = a.template tail<3>() + a.template head<3>().cross(p_world) +
+                           v.template head<3>().cross(v.template tail<3>());
+    return r;
+}
+
+// Kinetic energy (bodies and armature), potential energy of gravity (zero
+// at the world origin) and of joint springs. Needs update_kinematics.
+template <class S> void energy(const ModelT<S>& m, const DataT<S>& d, S& kinetic, S& gravity, S& spring) {
+    kinetic = gravity = spring = S(0);
+    for (size_t b = 1; b < m.bodies.size(); ++b) {
+        const Inertia<S>& I = m.bodies[b].inertia;
+        kinetic += S(0.5) * d.vel[b].dot(I * d.vel[b]);
+        const Vec3T<S> h_world = d.x_world[b].R * I.h + I.mass * d.x_world[b].p;  // m * com, world
+        gravity -= m.gravity.dot(h_world);
+        const JointT<S>& j = m.joints[b - 1];
+        if (j.nv() == 1) {
+            const S qd = d.v[j.v_index];
+            kinetic += S(0.5) * j.dynamics.armature * qd * qd;
+            const S dq = d.q[j.q_index] - j.dynamics.rest;
+            spring += S(0.5) * j.dynamics.stiffness * dq * dq;
+        }
+    }
+}
+
+}  // namespace mbx::sim

@@ -1,0 +1,81 @@
+// Forward dynamics of the whole model: the tree by the articulated body
+// algorithm when there are no loops, otherwise the mass matrix and the loop
+// closures in a null-space solve that tolerates redundant closure rows and
+// joints without inertia of their own (massless CAD joint nodes) as long as
+// the closures determine their motion.
+#pragma once
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <string>
+
+#include "core/finding.h"
+#include "sim/loop_closure.h"
+
+namespace mbx::sim {
+
+template <class S> [[noreturn]] void throw_undetermined(const ModelT<S>& m, int joint) {
+    const JointT<S>& j = m.joints[size_t(joint)];
+    throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
+                std::string("joint '") + j.name + "' moves no inertia and no loop closure determines its motion");
+}
+
+// data.qacc under data.qfrc_total at (data.q, data.v). Updates kinematics.
+// `extra_rows`/`extra_bias`, when given, are further constraint rows
+// J_e qacc = b_e solved with the closures (the accurate mode's stuck joints).
+template <class S>
+void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_rows = nullptr,
+                      const VecXT<S>* extra_bias = nullptr) {
+    update_kinematics(m, d);
+    const bool constrained = !m.closures.empty() || (extra_rows && extra_rows->rows() > 0);
+    if (!constrained) {
+        try {
+            articulated_body(m, d, d.qfrc_total, d.qacc);
+            return;
+        } catch (const UndeterminedJoint& u) {
+            throw_undetermined(m, u.joint);
+        }
+    }
+    mass_matrix(m, d);
+    d.tmp_v.setZero(m.nv);
+    inverse_dynamics(m, d, d.tmp_v, d.bias);  // C v + g
+    update_closure_jacobian(m, d);
+    update_closure_bias(m, d);
+    const MatXT<S>* J = &d.J;
+    const VecXT<S>* gamma = &d.gamma;
+    MatXT<S> J_all;
+    VecXT<S> gamma_all;
+    if (extra_rows && extra_rows->rows() > 0) {
+        J_all.resize(d.J.rows() + extra_rows->rows(), m.nv);
+        J_all << d.J, *extra_rows;
+        gamma_all.resize(J_all.rows());
+        gamma_all << d.gamma, *extra_bias;
+        J = &J_all;
+        gamma = &gamma_all;
+    }
+    ClosureFactor<S>& f = d.closure_factor;
+    f.factor(*J);
+    const VecXT<S> particular = f.particular(*gamma);
+    const auto N = f.null_space();
+    d.reduced_mass.noalias() = N.transpose() * d.M * N;
+    const VecXT<S> rhs = N.transpose() * (d.qfrc_total - d.bias - d.M * particular);
+    Eigen::LDLT<MatXT<S>> ldlt(d.reduced_mass);
+    using std::abs;
+    S scale = S(0);
+    for (int k = 0; k < m.nv; ++k) scale = std::max(scale, abs(d.M(k, k)));
+    const S floor = S(1e-13) * (scale > S(0) ? scale : S(1));
+    bool ok = ldlt.info() == Eigen::Success;
+    if (ok && N.cols() > 0) ok = ldlt.vectorD().minCoeff() > floor;
+    if (!ok) {
+        // The direction of the motion nothing resists: the joint with the
+        // largest share in the reduced mass matrix's weakest eigenvector.
+        Eigen::SelfAdjointEigenSolver<MatXT<S>> eig(d.reduced_mass);
+        const VecXT<S> dir = N * eig.eigenvectors().col(0);
+        int dof = 0;
+        for (int k = 1; k < m.nv; ++k)
+            if (abs(dir[k]) > abs(dir[dof])) dof = k;
+        throw_undetermined(m, m.dof_joint[size_t(dof)]);
+    }
+    d.qacc = particular + N * ldlt.solve(rhs);
+}
+
+}  // namespace mbx::sim

@@ -1,0 +1,163 @@
+// Loop closure: each cut joint keeps its frame A (on the tree-parent side)
+// and frame B (on the tree-child side) together up to the joint's own
+// motion. Residual, Jacobian and the velocity-product term at the current
+// state, and the minimum-norm corrections that put a state back on the
+// constraint manifold. Rows are scaled so that angular and linear rows
+// weigh alike (linear rows divided by the model's size): rank decisions
+// then do not depend on the unit of length.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sim/dynamics.h"
+
+namespace mbx::sim {
+
+template <class S> S closure_row_scale(const ModelT<S>& m, const LoopClosureT<S>& c, int r) {
+    return c.row[size_t(r)].template tail<3>().squaredNorm() > S(0) ? S(1) / m.length_scale : S(1);
+}
+
+// data.residual (scaled rows). Needs update_positions.
+template <class S> void update_closure_residual(const ModelT<S>& m, DataT<S>& d) {
+    int row = 0;
+    for (const LoopClosureT<S>& c : m.closures) {
+        const Transform<S> A = d.x_world[size_t(c.body_a)] * c.frame_a;
+        const Transform<S> B = d.x_world[size_t(c.body_b)] * c.frame_b;
+        const Mat3T<S> R_rel = A.R.transpose() * B.R;
+        const Vec3T<S> p_rel = A.R.transpose() * (B.p - A.p);
+        Vec3T<S> rot;
+        if (c.kind == JointKind::Revolute) {
+            // Tilt of B's axis out of A's, as components whose rates are the
+            // relative angular velocity along u and w: exact at any turn angle.
+            const Vec3T<S> u = c.row[0].template head<3>(), w = c.row[1].template head<3>();
+            const Vec3T<S> a_b = R_rel * u.cross(w);
+            rot = -w.dot(a_b) * u + u.dot(a_b) * w;
+        } else {
+            rot = rotation_vector<S>(R_rel);
+        }
+        for (int r = 0; r < c.rows; ++r) {
+            const Vec6T<S>& sel = c.row[size_t(r)];
+            d.residual[row++] = (sel.template head<3>().dot(rot) + sel.template tail<3>().dot(p_rel)) *
+                                closure_row_scale(m, c, r);
+        }
+    }
+}
+
+// data.J (scaled rows): rates of the residual rows. Needs update_positions.
+template <class S> void update_closure_jacobian(const ModelT<S>& m, DataT<S>& d) {
+    d.J.setZero(m.closure_rows, m.nv);
+    int row = 0;
+    for (const LoopClosureT<S>& c : m.closures) {
+        const Transform<S> A = d.x_world[size_t(c.body_a)] * c.frame_a;
+        const Transform<S> B = d.x_world[size_t(c.body_b)] * c.frame_b;
+        // Selectors in world axes.
+        Eigen::Matrix<S, 6, 6> sel;
+        for (int r = 0; r < c.rows; ++r) {
+            sel.col(r).template head<3>() = A.R * c.row[size_t(r)].template head<3>() * closure_row_scale(m, c, r);
+            sel.col(r).template tail<3>() = A.R * c.row[size_t(r)].template tail<3>() * closure_row_scale(m, c, r);
+        }
+        // + columns of body b's chain at B, - columns of body a's chain at A;
+        // the common ancestors' columns cancel.
+        auto add_chain = [&](int body, const Vec3T<S>& point, const S& sign) {
+            for (int b = body; b > 0; b = m.bodies[size_t(b)].parent) {
+                const JointT<S>& j = m.joints[size_t(b - 1)];
+                for (int k = 0; k < j.nv(); ++k) {
+                    const Vec6T<S> w = d.x_world[size_t(b)].motion_to_parent(Vec6T<S>(d.subspace[size_t(b)].col(k)));
+                    Vec6T<S> col;
+                    col.template head<3>() = w.template head<3>();
+                    col.template tail<3>() = w.template tail<3>() + w.template head<3>().cross(point);
+                    for (int r = 0; r < c.rows; ++r) d.J(row + r, j.v_index + k) += sign * sel.col(r).dot(col);
+                }
+            }
+        };
+        add_chain(c.body_b, B.p, S(1));
+        add_chain(c.body_a, A.p, S(-1));
+        row += c.rows;
+    }
+}
+
+// data.gamma = -Jdot v (scaled rows): what J qacc must equal. Needs
+// update_kinematics; fills data.acc_velocity.
+template <class S> void update_closure_bias(const ModelT<S>& m, DataT<S>& d) {
+    d.acc_velocity[0].setZero();
+    for (size_t b = 1; b < m.bodies.size(); ++b)
+        d.acc_velocity[b] = d.x_parent[b].motion_to_child(d.acc_velocity[size_t(m.bodies[b].parent)]) + d.bias_acc[b];
+    int row = 0;
+    for (const LoopClosureT<S>& c : m.closures) {
+        const Transform<S> A = d.x_world[size_t(c.body_a)] * c.frame_a;
+        const Transform<S> B = d.x_world[size_t(c.body_b)] * c.frame_b;
+        const Vec6T<S> va = point_velocity(d, c.body_a, A.p), vb = point_velocity(d, c.body_b, B.p);
+        const Vec6T<S> aa = point_acceleration(d, d.acc_velocity[size_t(c.body_a)], c.body_a, A.p);
+        const Vec6T<S> ab = point_acceleration(d, d.acc_velocity[size_t(c.body_b)], c.body_b, B.p);
+        // Rows are fixed in A, which turns with body a at w_a.
+        const Vec3T<S> wa = va.template head<3>();
+        const Vec3T<S> w_rel = vb.template head<3>() - va.template head<3>();
+        const Vec3T<S> v_rel = vb.template tail<3>() - va.template tail<3>();
+        const Vec3T<S> dw = ab.template head<3>() - aa.template head<3>() - wa.cross(w_rel);
+        const Vec3T<S> dv = ab.template tail<3>() - aa.template tail<3>() - wa.cross(v_rel);
+        for (int r = 0; r < c.rows; ++r) {
+            const Vec3T<S> sa = A.R * c.row[size_t(r)].template head<3>();
+            const Vec3T<S> sl = A.R * c.row[size_t(r)].template tail<3>();
+            d.gamma[row++] = -(sa.dot(dw) + sl.dot(dv)) * closure_row_scale(m, c, r);
+        }
+    }
+}
+
+// The loop whose rows in `v` (a residual or J v) are the largest, for errors.
+template <class S> int worst_closure(const ModelT<S>& m, const VecXT<S>& v) {
+    int row = 0, worst = -1;
+    S best = S(-1);
+    for (size_t k = 0; k < m.closures.size(); ++k) {
+        for (int r = 0; r < m.closures[k].rows; ++r, ++row) {
+            using std::abs;
+            if (abs(v[row]) > best) best = abs(v[row]), worst = int(k);
+        }
+    }
+    return worst;
+}
+
+// Moves the free coordinates (fixed[dof] == 0, or all when `fixed` is null)
+// by Gauss-Newton minimum-norm steps until every closure holds within
+// `tolerance` (scaled residual, i.e. metres / model size and radians).
+// Returns false, leaving data.q at the last iterate, if it does not converge.
+template <class S>
+bool project_positions(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, double tolerance, int max_iterations = 50,
+                       const std::vector<char>* fixed = nullptr) {
+    if (m.closures.empty()) return true;
+    VecXT<S> step(m.nv);
+    for (int it = 0; it <= max_iterations; ++it) {
+        update_positions(m, d);
+        update_closure_residual(m, d);
+        if (!(d.residual.template lpNorm<Eigen::Infinity>() > S(tolerance))) return true;
+        if (it == max_iterations) break;
+        update_closure_jacobian(m, d);
+        if (fixed)
+            for (int k = 0; k < m.nv; ++k)
+                if ((*fixed)[size_t(k)]) d.J.col(k).setZero();
+        f.factor(d.J);
+        step = f.particular(-d.residual);
+        if (!step.allFinite()) return false;
+        for (const JointT<S>& j : m.joints)
+            integrate_joint<S>(j.kind, d.q.data() + j.q_index, step.data() + j.v_index, S(1));
+    }
+    return false;
+}
+
+// Removes from data.v its component that violates the closures (minimum
+// norm change of the free coordinates). Needs update_positions; returns the
+// largest scaled J v left (nonzero when the fixed velocities admit none).
+template <class S>
+S project_velocities(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, const std::vector<char>* fixed = nullptr) {
+    if (m.closures.empty()) return S(0);
+    update_closure_jacobian(m, d);
+    const VecXT<S> violation = d.J * d.v;
+    if (fixed)
+        for (int k = 0; k < m.nv; ++k)
+            if ((*fixed)[size_t(k)]) d.J.col(k).setZero();
+    f.factor(d.J);
+    d.v -= f.particular(violation);
+    update_closure_jacobian(m, d);
+    return (d.J * d.v).template lpNorm<Eigen::Infinity>();
+}
+
+}  // namespace mbx::sim

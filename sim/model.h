@@ -1,0 +1,164 @@
+// The simulation model: constant once built, shared by any number of data
+// objects (sim/data.h), like Pinocchio's Model or MuJoCo's mjModel. Bodies
+// are numbered parent-first (body 0 is the world), each non-world body has
+// exactly one joint to its parent (a free joint for a floating root), and
+// every cut joint of the translated mechanism is a loop-closure constraint.
+// Templated on the scalar so that identified parameters (masses, friction)
+// can be Ceres Jets; build_model (sim/build_model.h) makes the double one.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/finding.h"
+#include "mechatronics/drive.h"
+#include "sim/joint_motion.h"
+
+namespace mbx::sim {
+
+// What acts on one joint besides the bodies (per velocity coordinate of a
+// revolute or prismatic joint; efforts in N m or N). All zero: a free joint.
+template <class S> struct JointDynamicsT {
+    S damping = S(0);          // viscous: -damping * qd
+    S coulomb = S(0);          // Coulomb friction magnitude
+    S coulomb_velocity = S(0); // regularisation speed of the fixed-step law (0: model default)
+    S stiffness = S(0);        // spring: -stiffness * (q - rest)
+    S rest = S(0);
+    S armature = S(0);         // added to the joint's diagonal of the mass matrix (reflected rotor inertia)
+    bool limited = false;
+    S lower = S(0), upper = S(0);
+    S limit_stiffness = S(0), limit_damping = S(0);  // set by build_model from the joint's inertia
+
+    template <class T> JointDynamicsT<T> cast() const {
+        JointDynamicsT<T> r;
+        r.damping = T(damping), r.coulomb = T(coulomb), r.coulomb_velocity = T(coulomb_velocity);
+        r.stiffness = T(stiffness), r.rest = T(rest), r.armature = T(armature);
+        r.limited = limited, r.lower = T(lower), r.upper = T(upper);
+        r.limit_stiffness = T(limit_stiffness), r.limit_damping = T(limit_damping);
+        return r;
+    }
+    bool passive() const {
+        return damping != S(0) || coulomb != S(0) || stiffness != S(0) || limited;
+    }
+};
+
+template <class S> struct BodyT {
+    int parent = -1;     // sim body index (-1 for the world)
+    int source = -1;     // Mechanism::bodies index (-1: none)
+    std::string id, name;
+    Inertia<S> inertia;  // body frame
+    template <class T> BodyT<T> cast() const { return {parent, source, id, name, inertia.template cast<T>()}; }
+};
+
+// The joint between body `body` and its parent.
+template <class S> struct JointT {
+    JointKind kind = JointKind::Revolute;
+    int body = -1;
+    int source = -1;          // Mechanism::joints index (-1: a floating root's free joint)
+    std::string name;         // the report's joint name (or the floating body's name)
+    std::string constraint_id;  // CAD constraint id ("" for a free joint)
+    int q_index = 0, v_index = 0;
+    Transform<S> parent_to_joint;  // parent-side joint frame in the parent body frame
+    Transform<S> joint_to_child;   // child body frame in the child-side joint frame
+    Vec3T<S> axis = Vec3T<S>::UnitZ();  // joint frame
+    SubspaceT<S> subspace;     // motion subspace in child body coordinates (free: filled per state)
+    JointDynamicsT<S> dynamics;
+
+    template <class T> JointT<T> cast() const {
+        JointT<T> r;
+        r.kind = kind, r.body = body, r.source = source, r.name = name, r.constraint_id = constraint_id;
+        r.q_index = q_index, r.v_index = v_index;
+        r.parent_to_joint = parent_to_joint.template cast<T>();
+        r.joint_to_child = joint_to_child.template cast<T>();
+        r.axis = axis.template cast<T>();
+        r.subspace = subspace.template cast<T>();
+        r.dynamics = dynamics.template cast<T>();
+        return r;
+    }
+    int nq() const { return position_size(kind); }
+    int nv() const { return velocity_size(kind); }
+    Subject subject() const {
+        return source >= 0 ? Subject::constraint(constraint_id, name) : Subject::rigid_body(constraint_id, name);
+    }
+};
+
+// A cut joint: frame A on body_a and frame B on body_b must coincide up to
+// the joint's own motion. Rows select components of B's motion relative to
+// A in A's coordinates, [rotation; translation]: 5 for revolute and
+// prismatic, 3 for spherical, 6 for a weld.
+template <class S> struct LoopClosureT {
+    int body_a = 0, body_b = 0;
+    Transform<S> frame_a;  // A in body_a
+    Transform<S> frame_b;  // B in body_b
+    JointKind kind = JointKind::Revolute;
+    int rows = 0;
+    std::array<Vec6T<S>, 6> row;  // unit selectors in A coordinates
+    int loop = -1;                // Mechanism::loops index
+    int source = -1;              // Mechanism::joints index of the cut joint
+    std::string name, constraint_id;
+
+    template <class T> LoopClosureT<T> cast() const {
+        LoopClosureT<T> r;
+        r.body_a = body_a, r.body_b = body_b, r.kind = kind, r.rows = rows, r.loop = loop, r.source = source;
+        r.frame_a = frame_a.template cast<T>(), r.frame_b = frame_b.template cast<T>();
+        for (int k = 0; k < 6; ++k) r.row[size_t(k)] = row[size_t(k)].template cast<T>();
+        r.name = name, r.constraint_id = constraint_id;
+        return r;
+    }
+    Subject subject() const { return Subject::loop(name); }
+};
+
+// Default gravity: 9.81 m/s^2 along -z, as every exporter writes it (CAD
+// assemblies are mostly z-up). Settable per model.
+constexpr double kDefaultGravity = 9.81;
+
+template <class S> struct ModelT {
+    std::string name;
+    int nq = 0, nv = 0;
+    std::vector<BodyT<S>> bodies;    // [0] the world
+    std::vector<JointT<S>> joints;   // joints[b - 1] is body b's joint, in body order
+    std::vector<LoopClosureT<S>> closures;
+    std::vector<int> dof_joint;      // velocity coordinate -> joint index
+    std::vector<int> body_of_source; // Mechanism::bodies index -> sim body (-1: none)
+    std::vector<int> joint_of_source;// Mechanism::joints index -> sim joint (-1: cut or none)
+    Vec3T<S> gravity = Vec3T<S>(S(0), S(0), S(-kDefaultGravity));
+    VecXT<S> q_reference;            // the CAD assembly pose (every tree coordinate neutral, floating roots at their pose)
+    int closure_rows = 0;            // sum of closures' rows
+    // Drives in the loop (resolved against the mechanism) and the velocity
+    // coordinate each acts on; their armature is already in the joints'.
+    std::vector<Drive> drives;
+    std::vector<int> drive_dof;
+    // Fixed-step Coulomb friction is regularised as coulomb * tanh(qd / v);
+    // v is the joint's coulomb_velocity or this.
+    S coulomb_velocity = S(1e-3);
+    // Below this a joint's effective inertia counts as none (1e-12 of the
+    // model's mass times its size squared, or its mass for a prismatic joint).
+    S mass_scale = S(1), length_scale = S(1);
+    S undetermined_inertia(JointKind k) const {
+        return k == JointKind::Prismatic ? S(1e-12) * mass_scale : S(1e-12) * mass_scale * length_scale * length_scale;
+    }
+
+    int body_count() const { return int(bodies.size()); }
+    const JointT<S>& joint_of_body(int b) const { return joints[size_t(b - 1)]; }
+
+    template <class T> ModelT<T> cast() const {
+        ModelT<T> r;
+        r.name = name, r.nq = nq, r.nv = nv;
+        for (const auto& b : bodies) r.bodies.push_back(b.template cast<T>());
+        for (const auto& j : joints) r.joints.push_back(j.template cast<T>());
+        for (const auto& c : closures) r.closures.push_back(c.template cast<T>());
+        r.dof_joint = dof_joint, r.body_of_source = body_of_source, r.joint_of_source = joint_of_source;
+        r.gravity = gravity.template cast<T>();
+        r.q_reference = q_reference.template cast<T>();
+        r.closure_rows = closure_rows;
+        r.drives = drives, r.drive_dof = drive_dof;
+        r.coulomb_velocity = T(coulomb_velocity);
+        r.mass_scale = T(mass_scale), r.length_scale = T(length_scale);
+        return r;
+    }
+};
+
+using Model = ModelT<double>;
+using JointDynamics = JointDynamicsT<double>;
+
+}  // namespace mbx::sim

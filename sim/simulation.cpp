@@ -1,0 +1,239 @@
+#include "sim/simulation.h"
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "report/atomic_file.h"
+#include "report/json_writer.h"
+
+namespace mbx::sim {
+namespace {
+
+std::string number(double x) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    return std::string(buf, r.ptr);
+}
+
+double total_energy(const Model& m, Data& d) {
+    update_kinematics(m, d);
+    double k = 0, g = 0, s = 0;
+    energy(m, d, k, g, s);
+    return k + g + s;
+}
+
+bool model_is_passive(const Model& m) {
+    if (!m.drives.empty()) return false;
+    for (const JointT<double>& j : m.joints)
+        if (j.dynamics.damping != 0 || j.dynamics.coulomb != 0 || j.dynamics.limited) return false;
+    return true;
+}
+
+}  // namespace
+
+int find_joint(const Model& m, const std::string& key, bool* ambiguous) {
+    int found = -1;
+    if (ambiguous) *ambiguous = false;
+    for (size_t k = 0; k < m.joints.size(); ++k) {
+        const JointT<double>& j = m.joints[k];
+        if (j.name == key || (!j.constraint_id.empty() && j.constraint_id == key)) {
+            if (found >= 0 && found != int(k)) {
+                if (ambiguous) *ambiguous = true;
+                return -1;
+            }
+            found = int(k);
+        }
+    }
+    return found;
+}
+
+void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed, double closure_tolerance) {
+    d.q = m.q_reference;
+    d.v.setZero(m.nv);
+    d.time = 0;
+    d.stats = RunStats{};
+    d.drives.reset();
+    std::vector<char> q_fixed(size_t(m.nv), 0), v_fixed(size_t(m.nv), 0);
+    for (const FixedValue& f : fixed) {
+        const JointT<double>& j = m.joints[size_t(f.joint)];
+        if (!std::isfinite(f.value))
+            throw Error(MBX_ERROR_INVALID_INPUT, j.subject(), "joint '" + j.name + "': initial value is not finite");
+        const int n = f.velocity ? j.nv() : j.nq();
+        if (f.index < 0 || f.index >= n)
+            throw Error(MBX_ERROR_INVALID_INPUT, j.subject(), "joint '" + j.name + "' has no coordinate " + std::to_string(f.index));
+        if (f.velocity) {
+            d.v[j.v_index + f.index] = f.value;
+            v_fixed[size_t(j.v_index + f.index)] = 1;
+        } else {
+            d.q[j.q_index + f.index] = f.value;
+            // A quaternion's components fix the whole rotation.
+            for (int k = 0; k < j.nv(); ++k)
+                if (j.nq() == 1 || (j.kind == JointKind::Free ? (f.index < 3 ? k == f.index : k >= 3) : true))
+                    q_fixed[size_t(j.v_index + k)] = 1;
+        }
+    }
+    for (const JointT<double>& j : m.joints) {
+        if (j.kind == JointKind::Spherical || j.kind == JointKind::Free) {
+            const int o = j.kind == JointKind::Free ? 3 : 0;
+            Eigen::Map<Eigen::Vector4d> quat(d.q.data() + j.q_index + o);
+            if (!(quat.norm() > 1e-12))
+                throw Error(MBX_ERROR_INVALID_INPUT, j.subject(), "joint '" + j.name + "': quaternion of zero length");
+            quat.normalize();
+        }
+    }
+    check_finite_state(m, d, "in the initial state");
+    if (m.closures.empty()) return;
+    const double tol = closure_tolerance / m.length_scale;
+    if (!project_positions(m, d, d.closure_factor, tol, 100, &q_fixed)) {
+        const int worst = worst_closure(m, d.residual);
+        const LoopClosureT<double>& c = m.closures[size_t(worst < 0 ? 0 : worst)];
+        throw Error(MBX_ERROR_INVALID_INPUT, c.subject(),
+                    "no loop closure satisfies the initial values: the loop closed by cut joint '" + c.name +
+                        "' stays open by " + number(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale));
+    }
+    update_positions(m, d);
+    const double left = project_velocities(m, d, d.closure_factor, &v_fixed);
+    update_closure_jacobian(m, d);
+    const Eigen::VectorXd jv = d.J * d.v;
+    if (left > 1e-9) {
+        const LoopClosureT<double>& c = m.closures[size_t(std::max(0, worst_closure(m, jv)))];
+        throw Error(MBX_ERROR_INVALID_INPUT, c.subject(),
+                    "no loop closure satisfies the initial velocities: the loop closed by cut joint '" + c.name +
+                        "' would open at " + number(left * m.length_scale) + " per second");
+    }
+}
+
+std::vector<std::string> trajectory_columns(const Model& m) {
+    std::vector<std::string> cols{"time"};
+    std::map<std::string, int> uses;
+    for (const JointT<double>& j : m.joints) ++uses[j.name];
+    auto name_of = [&](const JointT<double>& j) {
+        return uses[j.name] > 1 && !j.constraint_id.empty() ? j.name + "@" + j.constraint_id : j.name;
+    };
+    for (const JointT<double>& j : m.joints) {
+        const std::string n = name_of(j);
+        switch (j.kind) {
+        case JointKind::Revolute:
+        case JointKind::Prismatic: cols.insert(cols.end(), {n + ".q", n + ".qd"}); break;
+        case JointKind::Spherical: cols.insert(cols.end(), {n + ".qw", n + ".qx", n + ".qy", n + ".qz", n + ".wx", n + ".wy", n + ".wz"}); break;
+        case JointKind::Free:
+            cols.insert(cols.end(), {n + ".x", n + ".y", n + ".z", n + ".qw", n + ".qx", n + ".qy", n + ".qz", n + ".vx",
+                                     n + ".vy", n + ".vz", n + ".wx", n + ".wy", n + ".wz"});
+            break;
+        case JointKind::Fixed: break;
+        }
+    }
+    for (const Drive& drive : m.drives)
+        cols.insert(cols.end(), {drive.name + ".target", drive.name + ".u", drive.name + ".current", drive.name + ".effort"});
+    return cols;
+}
+
+namespace {
+
+void sample(const Model& m, const Data& d, Trajectory& out) {
+    out.values.push_back(d.time);
+    for (const JointT<double>& j : m.joints) {
+        for (int k = 0; k < j.nq(); ++k) out.values.push_back(d.q[j.q_index + k]);
+        for (int k = 0; k < j.nv(); ++k) out.values.push_back(d.v[j.v_index + k]);
+    }
+    for (const DriveSignals& s : d.drives.signals) out.values.insert(out.values.end(), {s.target, s.output, s.current, s.effort});
+}
+
+}  // namespace
+
+RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory& out) {
+    const IntegratorSettings& is = settings.integrator;
+    auto bad = [](const std::string& what) { throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(""), what); };
+    if (!(std::isfinite(settings.stop_time) && settings.stop_time > d.time)) bad("the stop time must be finite and after the current time");
+    if (!(std::isfinite(settings.output_step) && settings.output_step > 0)) bad("the output step must be positive");
+    if (!(std::isfinite(is.step) && is.step > 0) && is.kind != IntegratorKind::Accurate) bad("the step must be positive");
+    if (is.kind == IntegratorKind::Accurate) bad("the accurate integrator is not available in this build");
+    const double ratio = settings.output_step / is.step;
+    const long long per_output = std::llround(ratio);
+    if (per_output < 1 || std::fabs(ratio - double(per_output)) > 1e-9 * ratio)
+        bad("the output step (" + number(settings.output_step) + " s) must be a whole number of steps (" + number(is.step) + " s)");
+    check_finite_state(m, d, "at the start");
+
+    out.columns = trajectory_columns(m);
+    out.values.clear();
+    RunSummary s;
+    s.integrator = integrator_name(is.kind);
+    s.stop_time = settings.stop_time;
+    s.step = is.step;
+    s.tolerance = is.tolerance;
+    s.output_step = settings.output_step;
+    s.passive = model_is_passive(m);
+    const auto start = std::chrono::steady_clock::now();
+
+    // Drive signals at t0 for the first sample.
+    update_controllers(m, d, d.time);
+    drive_forces(m, d);
+    const double t0 = d.time;
+    s.energy_start = total_energy(m, d);
+    sample(m, d, out);
+    const long long outputs = std::llround(std::floor((settings.stop_time - t0) / settings.output_step + 1e-9));
+    long long step_index = 0;
+    for (long long k = 1; k <= outputs; ++k) {
+        for (long long i = 0; i < per_output; ++i) {
+            fixed_step(m, d, is);
+            // Times from the step count, so that no round-off accumulates.
+            d.time = t0 + double(++step_index) * is.step;
+        }
+        sample(m, d, out);
+        s.energy_drift = std::max(s.energy_drift, std::fabs(total_energy(m, d) - s.energy_start));
+        if (settings.progress && !settings.progress(double(k) / double(outputs)))
+            throw Error(MBX_ERROR_CANCELLED, Subject::model(m.name), "the simulation was cancelled at t = " + number(d.time) + " s");
+    }
+    s.stats = d.stats;
+    s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    s.steps_per_second = s.wall_time > 0 ? double(s.stats.steps) / s.wall_time : 0;
+    const double e_scale = std::max(std::fabs(s.energy_start), 1e-300);
+    s.energy_drift_relative = s.energy_drift / e_scale;
+    return s;
+}
+
+void write_run_files(const std::string& dir, const Model& m, const Trajectory& t, const RunSummary& s) {
+    std::string csv;
+    csv.reserve(t.values.size() * 20);
+    for (size_t c = 0; c < t.columns.size(); ++c) {
+        if (c) csv += ',';
+        csv += t.columns[c];
+    }
+    csv += '\n';
+    const size_t nc = t.columns.size();
+    for (size_t r = 0; r < t.rows(); ++r) {
+        for (size_t c = 0; c < nc; ++c) {
+            if (c) csv += ',';
+            csv += number(t.values[r * nc + c]);
+        }
+        csv += '\n';
+    }
+    JsonWriter w;
+    w.begin_object();
+    w.key("model").value(m.name);
+    w.key("integrator").value(s.integrator);
+    w.key("stop_time").value(s.stop_time);
+    w.key("step").value(s.step);
+    if (s.integrator == "accurate") w.key("tolerance").value(s.tolerance);
+    w.key("output_step").value(s.output_step);
+    w.key("samples").value(static_cast<unsigned long long>(t.rows()));
+    w.key("steps").value(s.stats.steps);
+    w.key("function_evaluations").value(s.stats.evaluations);
+    w.key("friction_mode_switches").value(s.stats.mode_switches);
+    w.key("wall_time").value(s.wall_time);
+    w.key("steps_per_second").value(s.steps_per_second);
+    w.key("max_loop_closure_residual").value(s.stats.max_closure_residual);
+    w.key("energy_start").value(s.energy_start);
+    w.key("energy_drift").value(s.energy_drift);
+    w.key("energy_drift_relative").value(s.energy_drift_relative);
+    w.key("energy_conserved_expected").value(s.passive);
+    w.key("gravity").begin_array();
+    for (int k = 0; k < 3; ++k) w.value(m.gravity[k]);
+    w.end_array();
+    w.end_object();
+    write_files_atomically({{dir + "/trajectory.csv", csv}, {dir + "/simulation.json", w.str() + "\n"}});
+}
+
+}  // namespace mbx::sim

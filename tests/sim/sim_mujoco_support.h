@@ -1,0 +1,120 @@
+// mbx's simulation model next to MuJoCo's model of mbx's own MJCF export:
+// the coordinate map between the two (hinges and slides equal, a ball's
+// rates turned into the MuJoCo body's axes), and the stand-in masses the
+// export gives leaf joint nodes copied into the simulation model, so both
+// describe the same bodies.
+#pragma once
+#include <random>
+
+#include "mujoco_helpers.h"
+#include "sim/build_model.h"
+#include "sim/data.h"
+
+namespace simtest {
+
+struct Pair {
+    mbx::sim::Model model;
+    xtest::MuJoCoRun run;
+    // Per sim joint: MuJoCo joint id (-1 for a fixed joint).
+    std::vector<int> mj_joint;
+    // Per sim joint with a ball: rotation from mbx joint axes to MuJoCo body axes.
+    std::vector<mbx::Mat3> ball_axes;
+    Eigen::MatrixXd T;  // v_mujoco = T v_mbx
+
+    // MuJoCo's qpos/qvel from an mbx state.
+    void to_mujoco(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+        mjModel* mm = run.model.get();
+        mjData* md = run.data.get();
+        mju_copy(md->qpos, mm->qpos0, mm->nq);
+        for (size_t k = 0; k < model.joints.size(); ++k) {
+            const auto& j = model.joints[k];
+            if (mj_joint[k] < 0) continue;
+            mjtNum* qpos = md->qpos + mm->jnt_qposadr[mj_joint[k]];
+            if (j.kind == mbx::sim::JointKind::Spherical) {
+                const mbx::Mat3& y = ball_axes[k];
+                const Eigen::Quaterniond r(q[j.q_index], q[j.q_index + 1], q[j.q_index + 2], q[j.q_index + 3]);
+                const Eigen::Quaterniond ball(mbx::Mat3(y * r.normalized().toRotationMatrix() * y.transpose()));
+                qpos[0] = ball.w(), qpos[1] = ball.x(), qpos[2] = ball.y(), qpos[3] = ball.z();
+            } else {
+                for (int i = 0; i < j.nq(); ++i) qpos[i] = q[j.q_index + i];
+            }
+        }
+        const Eigen::VectorXd vm = T * v;
+        for (int i = 0; i < mm->nv; ++i) md->qvel[i] = vm[i];
+    }
+};
+
+// Builds both models of the translated mechanism.
+inline Pair make_pair(xtest::Translated& t, const mbx_test::TempDir& dir, mbx::ExportSettings settings = {},
+                      mbx::sim::BuildOptions options = {}) {
+    Pair p{mbx::sim::build_model(*t.mechanism, options), xtest::load_mjcf(t, dir, settings), {}, {}, {}};
+    const mbx::Mechanism& m = *t.mechanism;
+    mjModel* mm = p.run.model.get();
+    // Same bodies: the export's inertials (stand-in masses of leaf nodes included).
+    for (const mbx::MjcfBody& b : p.run.layout.bodies) {
+        if (b.body < 0) continue;
+        const int sb = p.model.body_of_source[size_t(b.body)];
+        REQUIRE(sb > 0);
+        p.model.bodies[size_t(sb)].inertia = mbx::sim::Inertia<double>::from_com(b.mass, b.com, b.inertia);
+    }
+    for (int k = 0; k < 3; ++k) mm->opt.gravity[k] = p.model.gravity[k];
+    p.mj_joint.assign(p.model.joints.size(), -1);
+    p.ball_axes.assign(p.model.joints.size(), mbx::Mat3::Identity());
+    p.T = Eigen::MatrixXd::Zero(mm->nv, p.model.nv);
+    for (size_t k = 0; k < p.model.joints.size(); ++k) {
+        const auto& j = p.model.joints[k];
+        if (j.kind == mbx::sim::JointKind::Fixed) continue;
+        std::string name;
+        const mbx::MjcfBody* owner = nullptr;
+        for (const mbx::MjcfBody& b : p.run.layout.bodies) {
+            if (j.kind == mbx::sim::JointKind::Free && b.free && b.body == p.model.bodies[size_t(j.body)].source) {
+                name = b.free_name;
+                owner = &b;
+            }
+            for (const mbx::MjcfJoint& mj : b.joints)
+                if (mj.joint == j.source && j.source >= 0) name = mj.name, owner = &b;
+        }
+        REQUIRE_MESSAGE(!name.empty(), "no MuJoCo joint for " << j.name);
+        const int id = mj_name2id(mm, mjOBJ_JOINT, name.c_str());
+        REQUIRE(id >= 0);
+        p.mj_joint[k] = id;
+        const int dof = mm->jnt_dofadr[id];
+        if (j.kind == mbx::sim::JointKind::Spherical) {
+            const mbx::Joint& mjt = m.joints[size_t(j.source)];
+            p.ball_axes[k] = m.bodies[size_t(owner->body)].pose.rotation.transpose() * m.bodies[size_t(mjt.parent)].pose.rotation;
+            p.T.block(dof, j.v_index, 3, 3) = p.ball_axes[k];
+        } else {
+            p.T.block(dof, j.v_index, j.nv(), j.nv()).setIdentity();
+        }
+    }
+    return p;
+}
+
+// A random state: angles within +-1.2 rad, slides within +-5 cm, random
+// quaternions, rates within +-2.
+inline void random_state(const mbx::sim::Model& m, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& v) {
+    std::uniform_real_distribution<double> angle(-1.2, 1.2), shift(-0.05, 0.05), unit(-1, 1), rate(-2, 2);
+    q = m.q_reference;
+    v.resize(m.nv);
+    for (int i = 0; i < m.nv; ++i) v[i] = rate(rng);
+    for (const auto& j : m.joints) {
+        double* x = q.data() + j.q_index;
+        switch (j.kind) {
+        case mbx::sim::JointKind::Revolute: x[0] = angle(rng); break;
+        case mbx::sim::JointKind::Prismatic: x[0] = shift(rng); break;
+        case mbx::sim::JointKind::Spherical:
+        case mbx::sim::JointKind::Free: {
+            const int o = j.kind == mbx::sim::JointKind::Free ? 3 : 0;
+            if (o) for (int i = 0; i < 3; ++i) x[i] += shift(rng);
+            const Eigen::Quaterniond r(Eigen::AngleAxisd(angle(rng), mbx::Vec3(unit(rng), unit(rng), unit(rng)).normalized()));
+            const Eigen::Quaterniond base(x[o], x[o + 1], x[o + 2], x[o + 3]);
+            const Eigen::Quaterniond n = base * r;
+            x[o] = n.w(), x[o + 1] = n.x(), x[o + 2] = n.y(), x[o + 3] = n.z();
+            break;
+        }
+        case mbx::sim::JointKind::Fixed: break;
+        }
+    }
+}
+
+}  // namespace simtest
