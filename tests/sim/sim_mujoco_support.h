@@ -44,18 +44,45 @@ struct Pair {
     }
 };
 
+// A MuJoCo body's compiled inertial in its body frame.
+inline mbx::sim::Inertia<double> mujoco_inertia(const mjModel* mm, int id) {
+    REQUIRE(id >= 0);
+    const Eigen::Quaterniond iq(mm->body_iquat[4 * id], mm->body_iquat[4 * id + 1], mm->body_iquat[4 * id + 2],
+                                mm->body_iquat[4 * id + 3]);
+    const mbx::Mat3 R = iq.normalized().toRotationMatrix();
+    const mbx::Vec3 principal(mm->body_inertia[3 * id], mm->body_inertia[3 * id + 1], mm->body_inertia[3 * id + 2]);
+    const mbx::Vec3 com(mm->body_ipos[3 * id], mm->body_ipos[3 * id + 1], mm->body_ipos[3 * id + 2]);
+    return mbx::sim::Inertia<double>::from_com(mm->body_mass[id], com, R * principal.asDiagonal() * R.transpose());
+}
+
 // Builds both models of the translated mechanism.
 inline Pair make_pair(xtest::Translated& t, const mbx_test::TempDir& dir, mbx::ExportSettings settings = {},
                       mbx::sim::BuildOptions options = {}) {
     Pair p{mbx::sim::build_model(*t.mechanism, options), xtest::load_mjcf(t, dir, settings), {}, {}, {}};
     const mbx::Mechanism& m = *t.mechanism;
     mjModel* mm = p.run.model.get();
-    // Same bodies: the export's inertials (stand-in masses of leaf nodes included).
+    // Same bodies: MuJoCo's compiled inertials (the export's stand-in masses
+    // of leaf nodes included, and what balanceinertia made of CAD inertias
+    // that break the triangle inequality), so that both engines' algorithms
+    // see the same numbers. sim_inertials_test checks build_model's own.
     for (const mbx::MjcfBody& b : p.run.layout.bodies) {
         if (b.body < 0) continue;
         const int sb = p.model.body_of_source[size_t(b.body)];
         REQUIRE(sb > 0);
-        p.model.bodies[size_t(sb)].inertia = mbx::sim::Inertia<double>::from_com(b.mass, b.com, b.inertia);
+        p.model.bodies[size_t(sb)].inertia = mujoco_inertia(mm, mj_name2id(mm, mjOBJ_BODY, b.name.c_str()));
+    }
+    // A prismatic cut's helper slider (layout body -1) hangs on the cut's
+    // parent side; with its own slide at rest it rides rigidly on that body,
+    // so its inertial belongs there (after the loop above set the parent's).
+    for (const mbx::MjcfBody& b : p.run.layout.bodies) {
+        if (b.body >= 0 || b.parent < 0) continue;
+        const mbx::MjcfBody& parent = p.run.layout.bodies[size_t(b.parent)];
+        REQUIRE(parent.body >= 0);
+        const int sb = p.model.body_of_source[size_t(parent.body)];
+        REQUIRE(sb > 0);
+        const mbx::sim::Transform<double> local{b.local.rotation, b.local.position};
+        p.model.bodies[size_t(sb)].inertia +=
+            mujoco_inertia(mm, mj_name2id(mm, mjOBJ_BODY, b.name.c_str())).to_parent(local);
     }
     for (int k = 0; k < 3; ++k) mm->opt.gravity[k] = p.model.gravity[k];
     p.mj_joint.assign(p.model.joints.size(), -1);

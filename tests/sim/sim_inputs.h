@@ -1,0 +1,74 @@
+// The mechanisms the simulator tests run on: mbx's built-ins, the bundled
+// samples (PMXML + VRML shapes), the real PMXML exports in ../shared and the
+// small assemblies of the MJCF tests, each translated by mbx's own pipeline.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "export_fixture.h"
+#include "mujoco_assemblies.h"
+
+namespace simtest {
+
+struct Input {
+    std::string label;
+    std::function<std::unique_ptr<xtest::Translated>()> open;
+};
+
+inline std::unique_ptr<xtest::Translated> open_sample(const std::string& folder, const std::string& stem) {
+    const std::string dir = std::string(MBX_SAMPLES_DIR) + "/" + folder;
+    mbx_files::FileAdapterOptions o;
+    o.shapes_path = dir + "/" + stem + "_a.wrl";
+    return xtest::translate_file(dir + "/" + stem + ".xml", o);
+}
+
+inline std::vector<Input> builtin_inputs() {
+    std::vector<Input> in;
+    for (const std::string& name : mbx_stub::builtin_names())
+        in.push_back({"builtin " + name, [name] { return xtest::translate_builtin(name); }});
+    return in;
+}
+
+// Every folder of samples/ that holds an assembly.
+inline std::vector<Input> sample_inputs() {
+    std::vector<Input> in;
+    for (const auto& [folder, stem] : std::vector<std::pair<std::string, std::string>>{
+             {"double_cardan", "double_cardan"},
+             {"emps_axis", "emps_axis"},
+             {"five_axis_arm", "five_axis_arm"},
+             {"fourbar_imperial", "fourbar"},
+             {"joints_showcase", "joints_showcase"}})
+        in.push_back({"sample " + folder, [folder = folder, stem = stem] { return open_sample(folder, stem); }});
+    return in;
+}
+
+inline std::vector<Input> shared_pmxml_inputs() {
+    std::vector<Input> in;
+    const std::string data = std::string(MBX_SHARED_DATA) + "/pmxml";
+    in.push_back({"ergoCub", [data] {
+                      mbx_files::FileAdapterOptions o;
+                      o.mesh_dirs.push_back(data + "/ergocub/meshes/simmechanics");
+                      return xtest::translate_file(data + "/ergocub/SIM_ERGOCUB_1-0.xml", o);
+                  }});
+    for (const char* f : {"/ironcub/IRONCUB-MK1_SIM_MODEL.xml", "/ironcub/IRONCUB-MK1_1_SIM_MODEL.xml",
+                          "/legs_mechanism_2014/LEGS_MECHANISM.xml", "/legs_mechanism_2015/LEGS_MECHANISM.xml"}) {
+        const std::string path = data + f;
+        in.push_back({path.substr(data.size() + 1), [path] { return xtest::translate_file(path); }});
+    }
+    return in;
+}
+
+inline std::vector<Input> small_inputs() {
+    namespace a = xtest::mjcf_assemblies;
+    return {
+        {"pendulum", [] { return xtest::translate(a::Pendulum().assembly()); }},
+        {"tumbler (free body)", [] { return xtest::translate(a::Tumbler().assembly()); }},
+        {"double pendulum", [] { return xtest::translate(a::double_pendulum()); }},
+        {"spatial (universal, spherical, cylindrical, floating)", [] { return xtest::translate(a::spatial()); }},
+        {"slider_crank (prismatic cut)", [] { return xtest::translate(a::slider_crank()); }},
+    };
+}
+
+}  // namespace simtest
