@@ -2,6 +2,7 @@
 // the algorithms need, sized once from a model so that stepping allocates
 // nothing. One data object per rollout; any number may share a model.
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "sim/closure_factor.h"
@@ -57,18 +58,25 @@ template <class S> struct DataT {
     ClosureFactor<S> closure_factor;
     MatXT<S> reduced_mass;  // N^T M N
 
-    // Per-dof workspaces.
+    // Per-dof workspaces (integrators: start state, stage sums).
     VecXT<S> tmp_v, tmp_v2;
+    VecXT<S> q_start, v_start, v_stage, v_sum, a_sum;
 
     // Drives in the loop (double models only) and run statistics.
     DriveLoop drives;
     RunStats stats;
+    // The accurate mode's integrator session (sim/cvode_session.h: CVODE's
+    // history, friction modes), opaque here so that only that file needs
+    // SUNDIALS. It belongs to this object alone: a copied DataT starts a new one.
+    std::shared_ptr<void> accurate_session;
 
     explicit DataT(const ModelT<S>& m) : drives(m.drives) {
         const size_t nb = m.bodies.size();
         q = m.q_reference;
         v = VecXT<S>::Zero(m.nv);
         qacc = effort = qfrc_passive = qfrc_drive = qfrc_total = tmp_v = tmp_v2 = VecXT<S>::Zero(m.nv);
+        v_start = v_stage = v_sum = a_sum = VecXT<S>::Zero(m.nv);
+        q_start = q;
         x_parent.resize(nb);
         x_world.resize(nb);
         subspace.resize(nb);

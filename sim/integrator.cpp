@@ -30,11 +30,11 @@ void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>*
     ++d.stats.evaluations;
 }
 
-void check_finite_state(const Model& m, const Data& d, const char* when) {
+void check_finite_state(const Model& m, const Data& d, const char* when, mbx_status status) {
     for (const JointT<double>& j : m.joints) {
         const bool finite = d.q.segment(j.q_index, j.nq()).allFinite() && d.v.segment(j.v_index, j.nv()).allFinite();
         if (!finite)
-            throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
+            throw Error(status, j.subject(),
                         std::string("joint '") + j.name + "' has a non-finite position or velocity " + when);
     }
 }
@@ -53,44 +53,86 @@ double close_loops(const Model& m, Data& d, double tolerance) {
     return d.residual.lpNorm<Eigen::Infinity>() * m.length_scale;
 }
 
-void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings) {
+namespace {
+
+void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& settings) {
     RunStats& stats = d.stats;
     const double h = settings.step;
     update_controllers(m, d, d.time);
     const FrictionLaw law = FrictionLaw::Regularised;
-    auto advance = [&](Eigen::VectorXd& q, const Eigen::VectorXd& v, double dt) {
-        for (const JointT<double>& j : m.joints) integrate_joint<double>(j.kind, q.data() + j.q_index, v.data() + j.v_index, dt);
+    auto advance_from_start = [&](const Eigen::VectorXd& v, double dt) {
+        d.q = d.q_start;
+        for (const JointT<double>& j : m.joints) integrate_joint<double>(j.kind, d.q.data() + j.q_index, v.data() + j.v_index, dt);
     };
     if (settings.kind == IntegratorKind::Euler) {
         // Semi-implicit: the new velocity moves the positions (MuJoCo's Euler).
         evaluate(m, d, law);
         d.v += h * d.qacc;
-        advance(d.q, d.v, h);
+        for (const JointT<double>& j : m.joints) integrate_joint<double>(j.kind, d.q.data() + j.q_index, d.v.data() + j.v_index, h);
     } else {
-        const Eigen::VectorXd q0 = d.q, v0 = d.v;
-        Eigen::VectorXd v_sum = Eigen::VectorXd::Zero(m.nv), a_sum = Eigen::VectorXd::Zero(m.nv);
-        const double c[4] = {0, 0.5, 0.5, 1}, w[4] = {1, 2, 2, 1};
-        Eigen::VectorXd v_stage = v0, a_stage = Eigen::VectorXd::Zero(m.nv);
+        // Classical RK4 on (q, v), positions moved on their manifold from the
+        // step's start by each stage's velocity (as MuJoCo's RK4 does).
+        static constexpr double c[4] = {0, 0.5, 0.5, 1}, w[4] = {1, 2, 2, 1};
+        d.v_sum.setZero();
+        d.a_sum.setZero();
+        d.v_stage = d.v_start;
         for (int s = 0; s < 4; ++s) {
             if (s > 0) {
-                d.q = q0;
-                advance(d.q, v_stage, c[s] * h);
-                v_stage = v0 + c[s] * h * a_stage;
-                d.v = v_stage;
+                advance_from_start(d.v_stage, c[s] * h);
+                d.v_stage = d.v_start + (c[s] * h) * d.qacc;
+                d.v = d.v_stage;
             }
             evaluate(m, d, law);
-            a_stage = d.qacc;
-            v_sum += w[s] * v_stage;
-            a_sum += w[s] * a_stage;
+            d.v_sum += w[s] * d.v_stage;
+            d.a_sum += w[s] * d.qacc;
         }
-        d.q = q0;
-        advance(d.q, v_sum, h / 6);
-        d.v = v0 + (h / 6) * a_sum;
+        advance_from_start(d.v_sum, h / 6);
+        d.v = d.v_start + (h / 6) * d.a_sum;
     }
     d.time += h;
     ++stats.steps;
-    check_finite_state(m, d, "after a step: the run diverged");
+    if (!(d.q.allFinite() && d.v.allFinite()))
+        check_finite_state(m, d, ("at t = " + std::to_string(d.time) + " s: the run diverged").c_str(), MBX_ERROR_SIMULATION);
     stats.max_closure_residual = std::max(stats.max_closure_residual, close_loops(m, d, settings.closure_tolerance));
+}
+
+}  // namespace
+
+void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings) {
+    // A failed step leaves the last good state (the caller may report it or retry).
+    d.q_start = d.q;
+    d.v_start = d.v;
+    const double t0 = d.time;
+    try {
+        fixed_step_unguarded(m, d, settings);
+    } catch (...) {
+        d.q = d.q_start, d.v = d.v_start, d.time = t0;
+        throw;
+    }
+}
+
+void advance(const Model& m, Data& d, const IntegratorSettings& settings, double t_end) {
+    if (!std::isfinite(t_end))
+        throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name), "the end time is not finite");
+    if (settings.kind == IntegratorKind::Accurate)
+        throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name), "the accurate integrator is not available in this build");
+    if (!(settings.step > 0)) throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name), "the step must be positive");
+    // Times from a step count, so that no round-off accumulates over long runs.
+    const double t0 = d.time;
+    const double span = t_end - t0;
+    if (span <= 0) return;
+    const long long whole = (long long)std::floor(span / settings.step * (1 + 1e-12));
+    for (long long k = 1; k <= whole; ++k) {
+        fixed_step(m, d, settings);
+        d.time = t0 + double(k) * settings.step;
+    }
+    const double rest = t_end - d.time;
+    if (rest > 1e-12 * settings.step) {
+        IntegratorSettings last = settings;
+        last.step = rest;
+        fixed_step(m, d, last);
+    }
+    d.time = t_end;
 }
 
 }  // namespace mbx::sim

@@ -39,7 +39,12 @@ void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings);
 // Returns the largest closure residual left (m or rad).
 double close_loops(const Model& m, Data& d, double tolerance);
 
-// Throws mbx::Error naming the first joint with a non-finite coordinate.
-void check_finite_state(const Model& m, const Data& d, const char* when);
+// Throws mbx::Error(status) naming the first joint with a non-finite coordinate.
+void check_finite_state(const Model& m, const Data& d, const char* when, mbx_status status = MBX_ERROR_INVALID_INPUT);
+
+// Advances data to time t_end with the integrator of `settings`: whole
+// fixed steps, then a shorter one that lands on t_end. On an error the
+// state is the last good one.
+void advance(const Model& m, Data& d, const IntegratorSettings& settings, double t_end);
 
 }  // namespace mbx::sim

@@ -10,5 +10,6 @@ namespace mbx_cli {
 int run_translate(const std::vector<std::string>& args);
 int run_list(const std::vector<std::string>& args);
 int run_library(const std::vector<std::string>& args);
+int run_simulate(const std::vector<std::string>& args);
 
 }  // namespace mbx_cli

@@ -13,6 +13,7 @@ const char* kUsage =
     "\n"
     "commands:\n"
     "  translate <input> -o <dir>   translate an assembly; writes the report and the exports to <dir>\n"
+    "  simulate <input> -o <dir>    simulate an assembly; writes trajectory.csv and simulation.json to <dir>\n"
     "  list                         list the built-in assemblies usable as <input>\n"
     "  library <file.xml>...        check object library files and show derived drive quantities\n"
     "\n"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (command == "translate") return mbx_cli::run_translate(rest);
+    if (command == "simulate") return mbx_cli::run_simulate(rest);
     if (command == "list") return mbx_cli::run_list(rest);
     if (command == "library") return mbx_cli::run_library(rest);
     std::fprintf(stderr, "mbx: unknown command '%s'\n\n%s", command.c_str(), kUsage);

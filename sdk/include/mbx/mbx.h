@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 5u
+#define MBX_ABI_VERSION 6u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -84,7 +84,8 @@ typedef enum mbx_status {
     MBX_ERROR_IO = 5,               /* a file could not be written */
     MBX_ERROR_OUT_OF_MEMORY = 6,
     MBX_ERROR_VERSION = 7,          /* host table too old or from the future */
-    MBX_ERROR_INTERNAL = 8
+    MBX_ERROR_INTERNAL = 8,
+    MBX_ERROR_SIMULATION = 9        /* a run diverged or its integrator failed (ABI 6) */
 } mbx_status;
 
 /* Static English name of a status ("MBX_ERROR_IO"). Never NULL. */
@@ -703,6 +704,177 @@ MBX_API mbx_status mbx_mechanism_drive_target(const mbx_mechanism *mechanism, ui
                                               double out[3]);
 
 /* ------------------------------------------------------------------------ */
+/* Simulation (ABI 6): mbx's own forward dynamics of a mechanism             */
+/* ------------------------------------------------------------------------ */
+/* A simulation model is built once from a translated mechanism (with the
+ * drives attached to it) and is then constant; any number of simulation
+ * data objects (state, inputs, workspaces) may share it, one per rollout.
+ * Coordinates are reduced (joint) coordinates along the mechanism's spanning
+ * tree, zero at the CAD assembly pose, as in every export:
+ *   revolute q = angle (rad), prismatic q = displacement (m), 1 velocity;
+ *   spherical q = unit quaternion w x y z, v = angular velocity in the
+ *     child-side joint frame (3);
+ *   free (one per floating body) q = world position x y z then quaternion,
+ *     v = world velocity of the body origin, then angular velocity in the
+ *     body frame (MuJoCo's convention).
+ * Cut joints close their loops as constraints. Gravity defaults to 9.81
+ * m/s^2 along -z. See docs/simulation.md. */
+typedef struct mbx_sim_model mbx_sim_model;
+typedef struct mbx_sim_data mbx_sim_data;
+
+typedef enum mbx_integrator {
+    MBX_INTEGRATOR_RK4 = 0,      /* fixed step, 4th order */
+    MBX_INTEGRATOR_EULER = 1,    /* fixed step, semi-implicit Euler */
+    MBX_INTEGRATOR_ACCURATE = 2  /* variable step with error control (CVODE), stick/slip friction */
+} mbx_integrator;
+
+#define MBX_SIM_SET_GRAVITY 1u /* mbx_sim_options.flags: use gravity[] */
+
+typedef struct mbx_sim_options {
+    uint32_t struct_size;
+    uint32_t flags;            /* MBX_SIM_SET_GRAVITY */
+    double gravity[3];         /* m/s^2, world */
+    mbx_integrator integrator; /* default RK4 */
+    double step;               /* s; fixed step, or the accurate mode's largest step; 0: 1e-3 */
+    double tolerance;          /* accurate mode relative tolerance; 0: 1e-8 */
+} mbx_sim_options;
+
+/* Builds the model of `mechanism` with its attached drives. Fails with
+ * MBX_ERROR_INVALID_INPUT naming the joint for unusable joint dynamics. */
+MBX_API mbx_status mbx_sim_model_create(mbx_context *context, const mbx_mechanism *mechanism,
+                                        const mbx_sim_options *options, mbx_sim_model **out_model);
+/* Destroy data objects first. */
+MBX_API void mbx_sim_model_destroy(mbx_sim_model *model);
+
+typedef struct mbx_sim_model_info {
+    uint32_t struct_size;
+    uint32_t nq, nv;             /* position and velocity coordinates */
+    uint32_t joint_count;        /* simulated joints (tree joints and free joints) */
+    uint32_t drive_count;
+    uint32_t loop_closure_count; /* cut joints */
+    uint32_t closure_rows;       /* constraint rows, redundant ones included */
+    double gravity[3];
+} mbx_sim_model_info;
+
+typedef enum mbx_sim_joint_kind {
+    MBX_SIM_JOINT_REVOLUTE = 0,
+    MBX_SIM_JOINT_PRISMATIC = 1,
+    MBX_SIM_JOINT_SPHERICAL = 2,
+    MBX_SIM_JOINT_FIXED = 3, /* a weld primitive inside a CAD joint chain: no coordinates */
+    MBX_SIM_JOINT_FREE = 4
+} mbx_sim_joint_kind;
+
+typedef struct mbx_sim_joint_info {
+    uint32_t struct_size;
+    const char *name;          /* the report's joint name; a floating body's name for a free joint */
+    const char *constraint_id; /* CAD constraint id; the body id for a free joint */
+    mbx_sim_joint_kind kind;
+    int32_t mechanism_joint;   /* mbx_mechanism_get_joint index; -1 for a free joint */
+    uint32_t q_index, v_index; /* first coordinates in the state arrays */
+    uint32_t nq, nv;
+} mbx_sim_joint_info;
+
+MBX_API mbx_status mbx_sim_model_get_info(const mbx_sim_model *model, mbx_sim_model_info *out);
+MBX_API mbx_status mbx_sim_model_get_joint(const mbx_sim_model *model, uint32_t index, mbx_sim_joint_info *out);
+/* A joint by report name or CAD constraint id; MBX_ERROR_INVALID_ARGUMENT if
+ * none or several match. */
+MBX_API mbx_status mbx_sim_model_find_joint(const mbx_sim_model *model, const char *name_or_id, uint32_t *out_index);
+
+/* The model must outlive its data objects. */
+MBX_API mbx_status mbx_sim_data_create(mbx_context *context, const mbx_sim_model *model, mbx_sim_data **out_data);
+MBX_API void mbx_sim_data_destroy(mbx_sim_data *data);
+
+/* One coordinate a user fixes for mbx_sim_initialize. (Fixed layout: used in arrays.) */
+typedef struct mbx_sim_fixed_value {
+    uint32_t joint;   /* simulated joint index */
+    uint32_t index;   /* coordinate within the joint (q: 0..nq-1, v: 0..nv-1) */
+    int32_t velocity; /* 0: position, 1: velocity */
+    double value;
+} mbx_sim_fixed_value;
+
+/* Consistent initialisation: time 0, the CAD assembly pose at rest, then
+ * the given coordinates; the others are solved so that every loop closes
+ * (positions from the CAD pose, then velocities). MBX_ERROR_INVALID_INPUT
+ * names the loop when no closure satisfies the values, or the joint when a
+ * value is not finite. */
+MBX_API mbx_status mbx_sim_initialize(mbx_context *context, mbx_sim_data *data, const mbx_sim_fixed_value *values,
+                                      uint32_t count);
+/* Whole state: time, q (nq values), v (nv values); NULL arrays are skipped.
+ * Setting refuses non-finite values (naming the joint) and renormalises
+ * quaternions; it does not close loops (mbx_sim_initialize does). */
+MBX_API mbx_status mbx_sim_get_state(const mbx_sim_data *data, double *time, double *q, double *v);
+MBX_API mbx_status mbx_sim_set_state(mbx_context *context, mbx_sim_data *data, double time, const double *q,
+                                     const double *v);
+/* One joint's coordinates (q: its nq values, v: its nv values; NULL skips). */
+MBX_API mbx_status mbx_sim_get_joint_state(const mbx_sim_data *data, uint32_t joint, double *q, double *v);
+MBX_API mbx_status mbx_sim_set_joint_state(mbx_context *context, mbx_sim_data *data, uint32_t joint,
+                                           const double *q, const double *v);
+/* External effort per velocity coordinate (nv values; N m or N; a free
+ * joint's are world force then body-frame moment), held until changed. */
+MBX_API mbx_status mbx_sim_set_effort(mbx_context *context, mbx_sim_data *data, const double *effort);
+/* Target of drive `drive` from now on (rad or m), e.g. a recorded
+ * reference; NaN returns it to its motion program. */
+MBX_API mbx_status mbx_sim_set_drive_target(mbx_context *context, mbx_sim_data *data, uint32_t drive, double target);
+
+/* `count` steps of the model's step (fixed-step integrators), or advances by
+ * count * step with error control (accurate mode). Loops are closed after
+ * every step. MBX_ERROR_SIMULATION when the run diverges (the message names
+ * the joint and the time); the state is then the last good one. */
+MBX_API mbx_status mbx_sim_step(mbx_context *context, mbx_sim_data *data, uint32_t count);
+/* Advances to `time` (a last shorter step lands on it exactly). */
+MBX_API mbx_status mbx_sim_integrate(mbx_context *context, mbx_sim_data *data, double time);
+
+/* Joint efforts (nv) that give acceleration qacc (nv) at the current state,
+ * gravity and armature included, loop closures ignored (the tree's). */
+MBX_API mbx_status mbx_sim_inverse_dynamics(mbx_context *context, mbx_sim_data *data, const double *qacc,
+                                            double *effort);
+/* Acceleration (nv) at the current state under every force and the loops. */
+MBX_API mbx_status mbx_sim_forward_dynamics(mbx_context *context, mbx_sim_data *data, double *qacc);
+/* Joint-space mass matrix (nv x nv, row-major), armature included. */
+MBX_API mbx_status mbx_sim_mass_matrix(mbx_context *context, mbx_sim_data *data, double *matrix);
+
+typedef struct mbx_sim_energy {
+    uint32_t struct_size;
+    double kinetic;  /* bodies and armature, J */
+    double gravity;  /* potential, zero at the world origin */
+    double spring;   /* joint springs */
+    double total;
+} mbx_sim_energy;
+MBX_API mbx_status mbx_sim_get_energy(mbx_context *context, mbx_sim_data *data, mbx_sim_energy *out);
+
+typedef struct mbx_sim_drive_signals {
+    uint32_t struct_size;
+    double target;  /* joint target, rad or m */
+    double output;  /* controller output u */
+    double current; /* armature current, A */
+    double effort;  /* at the joint, N m or N */
+} mbx_sim_drive_signals;
+MBX_API mbx_status mbx_sim_get_drive_signals(const mbx_sim_data *data, uint32_t drive, mbx_sim_drive_signals *out);
+
+typedef struct mbx_sim_stats {
+    uint32_t struct_size;
+    uint64_t steps;
+    uint64_t evaluations;   /* forward dynamics calls */
+    uint64_t mode_switches; /* accurate mode: friction stick/slip switches */
+    double max_closure_residual; /* m (or rad), after projection */
+} mbx_sim_stats;
+MBX_API mbx_status mbx_sim_get_stats(const mbx_sim_data *data, mbx_sim_stats *out);
+
+typedef struct mbx_sim_run_options {
+    uint32_t struct_size;
+    double stop_time;   /* s, after the current time */
+    double output_step; /* s; a whole number of steps in fixed-step modes; 0: 0.01 */
+} mbx_sim_run_options;
+/* Integrates from the current state to stop_time and writes
+ * <directory>/trajectory.csv (time, each joint's coordinates and rates,
+ * each drive's target, output, current and effort) and simulation.json
+ * (integrator, steps, evaluations, wall time, steps per second, largest
+ * loop-closure residual, energy drift) as one unit: a failed or cancelled run
+ * (the context's progress callback) writes nothing. */
+MBX_API mbx_status mbx_sim_run(mbx_context *context, mbx_sim_data *data, const mbx_sim_run_options *options,
+                               const char *directory);
+
+/* ------------------------------------------------------------------------ */
 /* Plugin entry: one exported function returns the whole API as a table, so a */
 /* host can dlopen() the plugin and dlsym() a single name.                    */
 /* ------------------------------------------------------------------------ */
@@ -749,6 +921,30 @@ typedef struct mbx_api {
     uint32_t (*mechanism_drive_count)(const mbx_mechanism *);
     mbx_status (*mechanism_get_drive)(const mbx_mechanism *, uint32_t, mbx_drive_info *);
     mbx_status (*mechanism_drive_target)(const mbx_mechanism *, uint32_t, double, double *);
+    /* --- version 6 --- */
+    mbx_status (*sim_model_create)(mbx_context *, const mbx_mechanism *, const mbx_sim_options *, mbx_sim_model **);
+    void (*sim_model_destroy)(mbx_sim_model *);
+    mbx_status (*sim_model_get_info)(const mbx_sim_model *, mbx_sim_model_info *);
+    mbx_status (*sim_model_get_joint)(const mbx_sim_model *, uint32_t, mbx_sim_joint_info *);
+    mbx_status (*sim_model_find_joint)(const mbx_sim_model *, const char *, uint32_t *);
+    mbx_status (*sim_data_create)(mbx_context *, const mbx_sim_model *, mbx_sim_data **);
+    void (*sim_data_destroy)(mbx_sim_data *);
+    mbx_status (*sim_initialize)(mbx_context *, mbx_sim_data *, const mbx_sim_fixed_value *, uint32_t);
+    mbx_status (*sim_get_state)(const mbx_sim_data *, double *, double *, double *);
+    mbx_status (*sim_set_state)(mbx_context *, mbx_sim_data *, double, const double *, const double *);
+    mbx_status (*sim_get_joint_state)(const mbx_sim_data *, uint32_t, double *, double *);
+    mbx_status (*sim_set_joint_state)(mbx_context *, mbx_sim_data *, uint32_t, const double *, const double *);
+    mbx_status (*sim_set_effort)(mbx_context *, mbx_sim_data *, const double *);
+    mbx_status (*sim_set_drive_target)(mbx_context *, mbx_sim_data *, uint32_t, double);
+    mbx_status (*sim_step)(mbx_context *, mbx_sim_data *, uint32_t);
+    mbx_status (*sim_integrate)(mbx_context *, mbx_sim_data *, double);
+    mbx_status (*sim_inverse_dynamics)(mbx_context *, mbx_sim_data *, const double *, double *);
+    mbx_status (*sim_forward_dynamics)(mbx_context *, mbx_sim_data *, double *);
+    mbx_status (*sim_mass_matrix)(mbx_context *, mbx_sim_data *, double *);
+    mbx_status (*sim_get_energy)(mbx_context *, mbx_sim_data *, mbx_sim_energy *);
+    mbx_status (*sim_get_drive_signals)(const mbx_sim_data *, uint32_t, mbx_sim_drive_signals *);
+    mbx_status (*sim_get_stats)(const mbx_sim_data *, mbx_sim_stats *);
+    mbx_status (*sim_run)(mbx_context *, mbx_sim_data *, const mbx_sim_run_options *, const char *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

@@ -19,6 +19,7 @@ MBX_API const char* mbx_status_name(mbx_status status) {
         case MBX_ERROR_OUT_OF_MEMORY: return "MBX_ERROR_OUT_OF_MEMORY";
         case MBX_ERROR_VERSION: return "MBX_ERROR_VERSION";
         case MBX_ERROR_INTERNAL: return "MBX_ERROR_INTERNAL";
+        case MBX_ERROR_SIMULATION: return "MBX_ERROR_SIMULATION";
     }
     return "MBX_ERROR_UNKNOWN";
 }
