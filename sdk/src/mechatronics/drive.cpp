@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <unordered_map>
 
+#include "mechatronics/joint_lookup.h"
 #include "translator/mechanism.h"
 
 namespace mbx {
@@ -15,11 +15,6 @@ std::string short_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
-}
-
-std::string joint_text(const JointRef& ref) {
-    return "constraint '" + ref.constraint_id + "'" +
-           (ref.primitive >= 0 ? " primitive " + std::to_string(ref.primitive) : std::string());
 }
 
 // The object with the drive's overrides applied, each checked against its
@@ -71,33 +66,11 @@ bool valid_controller(const ControllerSpec& c, std::string& why) {
     return true;
 }
 
-using JointIndex = std::unordered_map<std::string, std::vector<int>>;
-
-// The one prismatic or revolute joint `ref` names, or -1 with `why`.
-int find_joint(const JointRef& ref, const JointIndex& joints_of, const Mechanism& m, std::string& why) {
-    const auto it = joints_of.find(ref.constraint_id);
-    if (it == joints_of.end()) {
-        why = "no constraint with id '" + ref.constraint_id + "' in the assembly";
-        return -1;
-    }
-    std::vector<int> candidates;
-    for (int j : it->second) {
-        const Joint& joint = m.joints[size_t(j)];
-        if (ref.primitive >= 0 ? joint.primitive_index == ref.primitive
-                               : joint.type == MBX_PRIMITIVE_REVOLUTE || joint.type == MBX_PRIMITIVE_PRISMATIC)
-            candidates.push_back(j);
-    }
-    if (candidates.empty()) {
-        why = joint_text(ref) + " has no " +
-              (ref.primitive >= 0 ? "such primitive joint (welds are merged away)" : "prismatic or revolute primitive");
-        return -1;
-    }
-    if (candidates.size() > 1) {
-        why = joint_text(ref) + " has " + std::to_string(candidates.size()) +
-              " prismatic/revolute primitives: say which with a primitive index";
-        return -1;
-    }
-    const Joint& joint = m.joints[size_t(candidates.front())];
+// The one prismatic or revolute tree joint `ref` names, or -1 with `why`.
+int find_drivable_joint(const JointRef& ref, const JointIndex& joints_of, const Mechanism& m, std::string& why) {
+    const int j = find_joint(ref, joints_of, m, why);
+    if (j < 0) return -1;
+    const Joint& joint = m.joints[size_t(j)];
     if (joint.type != MBX_PRIMITIVE_REVOLUTE && joint.type != MBX_PRIMITIVE_PRISMATIC) {
         why = "joint '" + joint.name + "' is " + (joint.type == MBX_PRIMITIVE_SPHERICAL ? "spherical" : "a weld") +
               ": only prismatic and revolute joints can be driven";
@@ -107,7 +80,7 @@ int find_joint(const JointRef& ref, const JointIndex& joints_of, const Mechanism
         why = "joint '" + joint.name + "' closes a loop (cut joint): drive a tree joint of the loop instead";
         return -1;
     }
-    return candidates.front();
+    return j;
 }
 
 }  // namespace
@@ -160,16 +133,7 @@ ServoEquivalent servo_equivalent(const Drive& d) {
 std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& m, std::vector<DriveError>& errors) {
     std::vector<Drive> out;
     out.reserve(spec.drives.size());
-    // Constraint id -> its joints (empty for welds merged away), hashed once:
-    // lookups stay flat on large assemblies.
-    JointIndex joints_of;
-    joints_of.reserve(m.assembly.constraints.size());
-    for (const Constraint& c : m.assembly.constraints) joints_of[c.id];
-    for (size_t j = 0; j < m.joints.size(); ++j) {
-        const Joint& joint = m.joints[j];
-        if (joint.constraint < 0) continue;
-        joints_of[m.assembly.constraints[size_t(joint.constraint)].id].push_back(int(j));
-    }
+    const JointIndex joints_of = index_joints_by_constraint(m);
     std::vector<char> driven(m.joints.size(), 0);
     for (size_t index = 0; index < spec.drives.size(); ++index) {
         const DriveSpec& s = spec.drives[index];
@@ -184,7 +148,7 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
         // The joint.
         Drive d;
         d.source = int(index);
-        d.joint = find_joint(s.joint, joints_of, m, why);
+        d.joint = find_drivable_joint(s.joint, joints_of, m, why);
         if (d.joint < 0) {
             error(why);
             continue;

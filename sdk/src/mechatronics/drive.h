@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "mechatronics/drive_quantities.h"
+#include "mechatronics/joint_dynamics.h"
+#include "mechatronics/joint_ref.h"
 #include "mechatronics/motion_profile.h"
 #include "mechatronics/object_library.h"
 
@@ -60,14 +62,6 @@ struct AmplifierSpec {
     double gain = 1;  // Current mode: A per unit of u
 };
 
-// Joint by stable CAD id: the host constraint and the primitive within its
-// chain (0 = J_N next to the base); -1 picks the constraint's only
-// prismatic or revolute primitive.
-struct JointRef {
-    std::string constraint_id;
-    int primitive = -1;
-};
-
 struct DriveSpec {
     std::string name;  // display name; "" = the joint's name
     JointRef joint;
@@ -87,11 +81,12 @@ struct DriveSpec {
     int line = 0;
 };
 
-// What the user adds to a CAD model: the library the drives draw from and
-// the drives. Independent of any mechanism.
+// What the user adds to a CAD model: the library the drives draw from, the
+// drives and the joint dynamics. Independent of any mechanism.
 struct MechatronicSpec {
     ObjectLibrary library;
     std::vector<DriveSpec> drives;
+    std::vector<JointDynamicsSpec> joint_dynamics;
 };
 
 // The joint-level linear servo a drive amounts to, in continuous time and
@@ -149,6 +144,14 @@ using DriveError = LibraryError;
 // with a problem is left out.
 struct Mechanism;
 std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& m, std::vector<DriveError>& errors);
+
+// Resolves every joint dynamics entry of `spec` against `m`, in spec order.
+// Problems (unknown constraint id, a weld, spherical or cut joint, a joint
+// given twice, a unit of the wrong kind, values that are not finite or
+// negative, lower > upper) go to `errors` with the entry's file and line;
+// an entry with a problem is left out.
+std::vector<ResolvedJointDynamics> resolve_joint_dynamics(const MechatronicSpec& spec, const Mechanism& m,
+                                                          std::vector<DriveError>& errors);
 
 // The servo equivalent of a resolved drive (used by resolve_drives).
 ServoEquivalent servo_equivalent(const Drive& d);

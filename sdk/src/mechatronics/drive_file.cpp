@@ -28,6 +28,8 @@ const std::map<std::string, std::set<std::string>>& allowed_attributes() {
         {"controller", {"kp", "ki", "kd", "kv", "kvi", "sample_period", "delay", "output_limit", "velocity_estimate"}},
         {"motion", {"interpolation", "unit"}},
         {"point", {"t", "q"}},
+        {"joint", {"constraint", "primitive", "damping", "coulomb", "coulomb_velocity", "stiffness", "rest", "armature",
+                   "lower", "upper", "unit"}},
     };
     return table;
 }
@@ -70,7 +72,8 @@ public:
             const std::string name = n.name();
             if (name == "library") library(n);
             else if (name == "drive") drive(n);
-            else error(n, "", "unknown element <" + name + "> (library, drive)");
+            else if (name == "joint") joint(n);
+            else error(n, "", "unknown element <" + name + "> (library, drive, joint)");
         }
     }
 
@@ -125,11 +128,7 @@ private:
                                                                                             : "<drive>";
         check_attributes(n, who);
         if (d.joint.constraint_id.empty()) error(n, who, "drive has no constraint (the CAD joint's stable id)");
-        if (n.attribute("primitive")) {
-            const double p = number(n, "primitive", -1, who);
-            if (p < 0 || p != std::floor(p) || p > 1e6) error(n, who, "primitive must be a whole number >= 0");
-            else d.joint.primitive = int(p);
-        }
+        d.joint.primitive = primitive(n, who);
         d.motor_id = n.attribute("motor").as_string();
         if (d.motor_id.empty()) error(n, who, "drive has no motor (a library object ID)");
         d.transmission_id = n.attribute("transmission").as_string();
@@ -170,6 +169,63 @@ private:
             error(n, who, "a second drive for the same joint (the first is at line " + std::to_string(it->second) + ")");
         else seen_.emplace(key, d.line);
         if (!bad_) spec_.drives.push_back(std::move(d));
+    }
+
+    // A primitive attribute: a whole number >= 0, or -1 when absent.
+    int primitive(const pugi::xml_node& n, const std::string& who) {
+        if (!n.attribute("primitive")) return -1;
+        const double p = number(n, "primitive", -1, who);
+        if (p < 0 || p != std::floor(p) || p > 1e6) {
+            error(n, who, "primitive must be a whole number >= 0");
+            return -1;
+        }
+        return int(p);
+    }
+
+    void joint(const pugi::xml_node& n) {
+        bad_ = false;
+        JointDynamicsSpec j;
+        j.file = file_;
+        j.line = lines_.line(n);
+        j.joint.constraint_id = n.attribute("constraint").as_string();
+        const std::string who = !j.joint.constraint_id.empty() ? j.joint.constraint_id : "<joint>";
+        check_attributes(n, who);
+        if (j.joint.constraint_id.empty()) error(n, who, "joint has no constraint (the CAD joint's stable id)");
+        j.joint.primitive = primitive(n, who);
+        for (pugi::xml_node c : n.children())
+            if (c.type() == pugi::node_element)
+                error(c, who, "unknown element <" + std::string(c.name()) + "> in a joint (it takes attributes only)");
+        j.unit = n.attribute("unit").as_string();
+        bool known = true;
+        const double factor = motion_unit_factor(j.unit, known);
+        if (!known) error(n, who, "unit '" + j.unit + "' is not rad, deg, m or mm");
+        // Positions and the regularisation speed follow `unit`; the
+        // coefficients are per rad or m always, so a file never holds a
+        // damping "per degree".
+        j.damping = number(n, "damping", 0, who);
+        j.coulomb = number(n, "coulomb", 0, who);
+        j.coulomb_velocity = number(n, "coulomb_velocity", 0, who) * factor;
+        j.stiffness = number(n, "stiffness", 0, who);
+        j.armature = number(n, "armature", 0, who);
+        j.rest = number(n, "rest", 0, who) * factor;
+        for (const auto& [name, value] : joint_dynamics_coefficients(j))
+            if (value < 0) error(n, who, std::string(name) + " must not be negative");
+        const bool lower = bool(n.attribute("lower")), upper = bool(n.attribute("upper"));
+        if (lower != upper) {
+            error(n, who, std::string("a limit needs both lower and upper (") + (lower ? "upper" : "lower") + " is missing)");
+        } else if (lower) {
+            j.limited = true;
+            j.lower = number(n, "lower", 0, who) * factor;
+            j.upper = number(n, "upper", 0, who) * factor;
+            if (j.lower > j.upper)
+                error(n, who, "lower = " + std::string(n.attribute("lower").as_string()) + " is above upper = " +
+                                  n.attribute("upper").as_string());
+        }
+        const std::string key = j.joint.constraint_id + "#" + std::to_string(j.joint.primitive);
+        if (const auto it = seen_joints_.find(key); it != seen_joints_.end() && !j.joint.constraint_id.empty())
+            error(n, who, "a second <joint> for the same joint (the first is at line " + std::to_string(it->second) + ")");
+        else seen_joints_.emplace(key, j.line);
+        if (!bad_) spec_.joint_dynamics.push_back(std::move(j));
     }
 
     void controller(const pugi::xml_node& c, const std::string& who, ControllerSpec& out) {
@@ -238,7 +294,8 @@ private:
     XmlLines lines_;
     MechatronicSpec& spec_;
     std::vector<DriveError>& errors_;
-    std::unordered_map<std::string, int> seen_;  // joint key -> line of its drive
+    std::unordered_map<std::string, int> seen_;         // joint key -> line of its drive
+    std::unordered_map<std::string, int> seen_joints_;  // joint key -> line of its <joint>
     bool bad_ = false;
 };
 

@@ -1,5 +1,6 @@
 // The mechatronic description file (`mbx translate --drives`): which library
-// objects drive which joints, with controller, amplifier and motion, keyed by
+// objects drive which joints, with controller, amplifier and motion, and the
+// joints' own dynamics (damping, friction, spring, limits, armature), keyed by
 // the CAD constraint ids so it survives re-exports of the CAD model. Format:
 // docs/mechatronics.md.
 #pragma once
@@ -10,10 +11,11 @@
 
 namespace mbx {
 
-// Appends the file's drives to `spec.drives` and loads the libraries it
+// Appends the file's drives to `spec.drives`, its <joint> entries to
+// `spec.joint_dynamics`, and loads the libraries it
 // names (<library file="..."/>, relative to the file) into `spec.library`.
 // Every problem of the file goes to `errors` with its line; a drive with a
-// problem is not added. Library problems stay in spec.library.errors().
+// problem (or a <joint> with one) is not added. Library problems stay in spec.library.errors().
 void load_drive_file(const std::string& path, MechatronicSpec& spec, std::vector<DriveError>& errors);
 
 // The same from text; `file` names it in errors, `base_dir` resolves library

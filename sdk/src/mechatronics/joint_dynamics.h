@@ -1,0 +1,53 @@
+// Joint dynamics: what acts on a joint besides the bodies and its drive --
+// viscous damping, Coulomb friction, a spring about a rest position, position
+// limits and armature (rotor or gear inertia not modelled as a body). Like
+// drives they are user data keyed by CAD ids (JointRef), kept apart from the
+// CAD model and resolved against a translated mechanism when a consumer (the
+// simulator, an exporter) needs them. Format: docs/mechatronics.md.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "mechatronics/joint_ref.h"
+#include "mechatronics/object_library.h"
+
+namespace mbx {
+
+// As the user wrote it, in SI: efforts in N m (revolute) or N (prismatic),
+// positions in rad or m. `unit` is the position unit the file used
+// ("rad", "deg", "m", "mm"; "" = SI, no check), kept so that resolution can
+// refuse an angle on a prismatic joint and a length on a revolute one.
+struct JointDynamicsSpec {
+    JointRef joint;
+    double damping = 0;           // N m s/rad or N s/m
+    double coulomb = 0;           // N m or N, friction effort while sliding
+    double coulomb_velocity = 0;  // rad/s or m/s: regularisation speed of the fixed-step law; 0: the simulator's default
+    double stiffness = 0;         // N m/rad or N/m
+    double rest = 0;              // spring rest position, rad or m
+    double armature = 0;          // kg m^2 or kg, added to the joint's inertia
+    bool limited = false;         // lower/upper given (they replace the CAD joint's limits)
+    double lower = 0, upper = 0;  // rad or m
+    std::string unit;
+    std::string file;  // where it was declared, "" when set through the C API
+    int line = 0;
+};
+
+// The numbers of a spec that must be finite and not negative, by the names
+// the description file uses.
+std::vector<std::pair<const char*, double>> joint_dynamics_coefficients(const JointDynamicsSpec& s);
+
+// Joint dynamics resolved against a mechanism: the joint they act on and the
+// same SI values, for the simulator (sim/resolved_dynamics.h) and every
+// exporter alike.
+struct ResolvedJointDynamics {
+    JointDynamicsSpec spec;
+    int joint = -1;       // Mechanism::joints index (a revolute or prismatic tree joint)
+    int source = -1;      // MechatronicSpec::joint_dynamics index it was resolved from
+    std::string name;     // the joint's name
+    bool linear = false;  // prismatic joint
+    double damping = 0, coulomb = 0, coulomb_velocity = 0, stiffness = 0, rest = 0, armature = 0;
+    bool limited = false;
+    double lower = 0, upper = 0;
+};
+
+}  // namespace mbx

@@ -1,0 +1,33 @@
+// The joint dynamics of a description file (mechatronics/joint_dynamics.h),
+// resolved against the mechanism, as the simulator's BuildOptions take them.
+// mbx_core cannot see sim/, so the mapping lives on this side.
+#pragma once
+#include <map>
+#include <vector>
+
+#include "mechatronics/joint_dynamics.h"
+#include "sim/model.h"
+
+namespace mbx::sim {
+
+// Keyed by Mechanism::joints index, for BuildOptions::joint_dynamics. Limit
+// stiffness and damping stay 0 so build_model sizes them from the joint's
+// inertia; a drive's armature is added by build_model on top of these.
+inline std::map<int, JointDynamics> joint_dynamics_by_joint(const std::vector<ResolvedJointDynamics>& resolved) {
+    std::map<int, JointDynamics> out;
+    for (const ResolvedJointDynamics& r : resolved) {
+        JointDynamics& jd = out[r.joint];
+        jd.damping = r.damping;
+        jd.coulomb = r.coulomb;
+        jd.coulomb_velocity = r.coulomb_velocity;
+        jd.stiffness = r.stiffness;
+        jd.rest = r.rest;
+        jd.armature = r.armature;
+        jd.limited = r.limited;
+        jd.lower = r.lower;
+        jd.upper = r.upper;
+    }
+    return out;
+}
+
+}  // namespace mbx::sim
