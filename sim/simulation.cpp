@@ -7,6 +7,7 @@
 
 #include "report/atomic_file.h"
 #include "report/json_writer.h"
+#include "sim/cvode_session.h"
 
 namespace mbx::sim {
 namespace {
@@ -148,9 +149,15 @@ RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory&
     auto bad = [](const std::string& what) { throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(""), what); };
     if (!(std::isfinite(settings.stop_time) && settings.stop_time > d.time)) bad("the stop time must be finite and after the current time");
     if (!(std::isfinite(settings.output_step) && settings.output_step > 0)) bad("the output step must be positive");
-    if (!(std::isfinite(is.step) && is.step > 0) && is.kind != IntegratorKind::Accurate) bad("the step must be positive");
-    if (is.kind == IntegratorKind::Accurate) bad("the accurate integrator is not available in this build");
-    const double ratio = settings.output_step / is.step;
+    const bool accurate = is.kind == IntegratorKind::Accurate;
+    if (accurate) {
+        // The step bounds CVODE's steps (0: none); outputs are interpolated.
+        if (!(std::isfinite(is.step) && is.step >= 0)) bad("the largest step must be 0 (no bound) or positive");
+        if (!(std::isfinite(is.tolerance) && is.tolerance > 0 && is.tolerance < 1)) bad("the tolerance must be in (0, 1)");
+    } else if (!(std::isfinite(is.step) && is.step > 0)) {
+        bad("the step must be positive");
+    }
+    const double ratio = accurate ? 1.0 : settings.output_step / is.step;
     const long long per_output = std::llround(ratio);
     if (per_output < 1 || std::fabs(ratio - double(per_output)) > 1e-9 * ratio)
         bad("the output step (" + number(settings.output_step) + " s) must be a whole number of steps (" + number(is.step) + " s)");
@@ -175,7 +182,21 @@ RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory&
     sample(m, d, out);
     const long long outputs = std::llround(std::floor((settings.stop_time - t0) / settings.output_step + 1e-9));
     long long step_index = 0;
-    for (long long k = 1; k <= outputs; ++k) {
+    if (accurate) {
+        AccurateRequest request;
+        request.stop_time = settings.stop_time;
+        for (long long k = 1; k <= outputs; ++k) request.sample_times.push_back(t0 + double(k) * settings.output_step);
+        long long k = 0;
+        request.sample = [&](Data& at) {
+            sample(m, at, out);
+            s.energy_drift = std::max(s.energy_drift, std::fabs(total_energy(m, at) - s.energy_start));
+            ++k;
+            if (settings.progress && !settings.progress(double(k) / double(outputs)))
+                throw Error(MBX_ERROR_CANCELLED, Subject::model(m.name), "the simulation was cancelled at t = " + number(at.time) + " s");
+        };
+        accurate_advance(m, d, is, request);
+    }
+    for (long long k = 1; k <= outputs && !accurate; ++k) {
         for (long long i = 0; i < per_output; ++i) {
             fixed_step(m, d, is);
             // Times from the step count, so that no round-off accumulates.
