@@ -24,6 +24,22 @@ ExportModel::ExportModel(const Mechanism& m, BodyShapes shapes, ExportSettings s
         const int j = settings_.drives[d].joint;
         if (j >= 0 && size_t(j) < m.joints.size()) drive_index_[size_t(j)] = int(d);
     }
+    dynamics_index_.assign(m.joints.size(), -1);
+    for (size_t d = 0; d < settings_.joint_dynamics.size(); ++d) {
+        const int j = settings_.joint_dynamics[d].joint;
+        if (j >= 0 && size_t(j) < m.joints.size()) dynamics_index_[size_t(j)] = int(d);
+    }
+}
+
+bool ExportModel::limits(int joint, double& lower, double& upper) const {
+    if (const ResolvedJointDynamics* jd = joint_dynamics_of(joint); jd && jd->limited) {
+        lower = jd->lower, upper = jd->upper;
+        return true;
+    }
+    const Joint& j = m_.joints[size_t(joint)];
+    if (!j.has_limits) return false;
+    lower = j.lower, upper = j.upper;
+    return true;
 }
 
 Subject ExportModel::joint_subject(int joint) const {

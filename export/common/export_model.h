@@ -21,6 +21,10 @@ struct ExportSettings {
     // Drives resolved against the mechanism (resolve_drives); empty: a passive
     // mechanism. Every format writes the same drive quantities (Drive).
     std::vector<Drive> drives;
+    // Joint dynamics resolved against the mechanism (resolve_joint_dynamics):
+    // damping, friction, spring, limits and armature of tree joints. A joint
+    // that also has a drive gets both (armatures and dampings add up).
+    std::vector<ResolvedJointDynamics> joint_dynamics;
 };
 
 // One output file, path relative to the output directory with '/' separators.
@@ -48,6 +52,14 @@ public:
         const int d = joint >= 0 && size_t(joint) < drive_index_.size() ? drive_index_[size_t(joint)] : -1;
         return d < 0 ? nullptr : &settings_.drives[size_t(d)];
     }
+    // The joint dynamics of mechanism joint `joint`, nullptr when it has none.
+    const ResolvedJointDynamics* joint_dynamics_of(int joint) const {
+        const int d = joint >= 0 && size_t(joint) < dynamics_index_.size() ? dynamics_index_[size_t(joint)] : -1;
+        return d < 0 ? nullptr : &settings_.joint_dynamics[size_t(d)];
+    }
+    // Position limits of a revolute or prismatic joint as every format writes
+    // them: the joint dynamics' when given, else the CAD joint's.
+    bool limits(int joint, double& lower, double& upper) const;
     // The CAD constraint a joint came from, for notes about it.
     Subject joint_subject(int joint) const;
 
@@ -74,7 +86,8 @@ private:
     ExportSettings settings_;
     TreeIndex tree_;
     std::vector<JointPlacement> placements_;
-    std::vector<int> drive_index_;  // joint -> settings_.drives index, -1 when passive
+    std::vector<int> drive_index_;     // joint -> settings_.drives index, -1 when passive
+    std::vector<int> dynamics_index_;  // joint -> settings_.joint_dynamics index, -1 when none
     std::vector<char> loaded_;
     std::vector<std::vector<Mesh>> cache_;
     std::vector<std::string> stems_;

@@ -138,10 +138,27 @@ private:
         // A drive's rotor and transmission inertia and its motor's back-EMF
         // braking belong to the joint: MuJoCo adds armature to the mass
         // matrix diagonal and applies damping outside the actuator's clamp,
-        // as the real motor does.
+        // as the real motor does. The joint's own dynamics add to them.
+        double armature = 0, damping = 0;
         if (const Drive* d = model_.drive_of(j.joint)) {
-            if (d->armature > 0) set(node, "armature", number_text(d->armature));
-            if (d->servo.emf_damping > 0) set(node, "damping", number_text(d->servo.emf_damping));
+            armature += d->armature;
+            damping += d->servo.emf_damping;
+        }
+        const ResolvedJointDynamics* jd = model_.joint_dynamics_of(j.joint);
+        if (jd) {
+            armature += jd->armature;
+            damping += jd->damping;
+        }
+        if (armature > 0) set(node, "armature", number_text(armature));
+        if (damping > 0) set(node, "damping", number_text(damping));
+        if (!jd) return;
+        // frictionloss is MuJoCo's dry friction on the joint (a soft
+        // constraint, so it sticks where mbx's accurate mode sticks);
+        // springref is the spring's rest position in joint coordinates.
+        if (jd->coulomb > 0) set(node, "frictionloss", number_text(jd->coulomb));
+        if (jd->stiffness > 0) {
+            set(node, "stiffness", number_text(jd->stiffness));
+            if (jd->rest != 0) set(node, "springref", number_text(jd->rest));
         }
     }
 

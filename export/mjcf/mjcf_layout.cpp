@@ -40,7 +40,12 @@ public:
         for (size_t j = 0; j < m_.joints.size(); ++j)
             if (m_.joints[j].cut) close_loop(int(j));
         for (const MjcfBody& body : out_.bodies)
-            for (const MjcfJoint& joint : body.joints) out_.constraint_rows += joint.limited ? 1 : 0;
+            for (const MjcfJoint& joint : body.joints) {
+                out_.constraint_rows += joint.limited ? 1 : 0;
+                // MuJoCo's dry friction is a constraint row of its own.
+                const ResolvedJointDynamics* jd = model_.joint_dynamics_of(joint.joint);
+                out_.constraint_rows += jd && jd->coulomb > 0 ? 1 : 0;
+            }
         for (const MjcfEquality& e : out_.equalities) out_.constraint_rows += e.kind == MjcfEquality::WELD ? 6 : 3;
         return std::move(out_);
     }
@@ -129,9 +134,7 @@ private:
             mj.type = joint.type;
             mj.frame = to_body * m_.bodies[size_t(joint.parent)].pose * p.parent_to_joint;
             mj.axis = mj.frame.rotation * p.axis;
-            mj.limited = joint.has_limits && joint.type != MBX_PRIMITIVE_SPHERICAL;
-            mj.lower = joint.lower;
-            mj.upper = joint.upper;
+            mj.limited = joint.type != MBX_PRIMITIVE_SPHERICAL && model_.limits(j, mj.lower, mj.upper);
             body.joints.push_back(std::move(mj));
         }
 

@@ -46,6 +46,7 @@ public:
 
 private:
     void add_drive(int index);
+    void add_joint_dynamics(int index);
     // Declares <prefix>_<role> and returns its name.
     std::string add(const std::string& role, const std::string& class_name,
                     std::vector<std::pair<std::string, std::string>> modifiers, const std::string& what);
@@ -61,8 +62,9 @@ private:
     NameTable names_;
     ModelicaModel out_;
     MechatronicModel result_;
-    // The drive being written.
+    // The drive or joint dynamics being written, and how descriptions name it.
     const Drive* drive_ = nullptr;
+    std::string owner_;
     std::string prefix_;
     ModelicaDriveComponents* parts_ = nullptr;
     size_t first_component_ = 0;
@@ -76,7 +78,7 @@ std::string MechatronicBuilder::add(const std::string& role, const std::string& 
     c.class_name = class_name;
     c.name = names_.claim(prefix_ + "_" + role);
     c.modifiers = std::move(modifiers);
-    c.description = "drive " + quoted(drive_->name) + ": " + what;
+    c.description = owner_ + ": " + what;
     parts_->roles.emplace_back(role, c.name);
     out_.components.push_back(std::move(c));
     return out_.components.back().name;
@@ -112,6 +114,7 @@ void MechatronicBuilder::add_drive(int index) {
         return;
     }
     drive_ = &d;
+    owner_ = "drive " + quoted(d.name);
     prefix_ = sanitize_identifier(d.name, "drive");
     result_.drives.push_back({index, prefix_, {}});
     parts_ = &result_.drives.back();
@@ -324,6 +327,84 @@ void MechatronicBuilder::add_drive(int index) {
     for (ModelicaConnect& cn : connects_) out_.connects.push_back(std::move(cn));
 }
 
+// Damping and spring as one compliant element between the joint's support
+// (fixed in the world inside MSL's Revolute and Prismatic) and its axis, so
+// its relative coordinate is the joint coordinate; Coulomb friction as MSL's
+// bearing (support) friction with stick/slip; armature as an inertia (mass)
+// on the axis. MultiBody joints have no limits: they become a note.
+void MechatronicBuilder::add_joint_dynamics(int index) {
+    const ResolvedJointDynamics& jd = model_.settings().joint_dynamics[size_t(index)];
+    const Joint* joint = jd.joint >= 0 && size_t(jd.joint) < m_.joints.size() ? &m_.joints[size_t(jd.joint)] : nullptr;
+    const bool has_flange = joint && size_t(jd.joint) < flanges_.size() && !flanges_[size_t(jd.joint)].axis.empty();
+    if (!has_flange) {
+        model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION,
+                    joint ? model_.joint_subject(jd.joint) : Subject::model(model_.settings().model_name),
+                    "Modelica: the joint dynamics of " + quoted(jd.name) +
+                        " are left out of Mechatronic.mo: the joint has no axis flange in Mechanics.mo (the "
+                        "revolute that carries a planar-loop constraint)");
+        return;
+    }
+    if (jd.limited)
+        model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(jd.joint),
+                    "Modelica MultiBody joints have no position limits: the limits [" + number_text(jd.lower) + ", " +
+                        number_text(jd.upper) + "] of joint " + quoted(jd.name) + " are not in Mechatronic.mo");
+    const bool linear = jd.linear;
+    const std::string axis = "mechanics." + flanges_[size_t(jd.joint)].axis;
+    const std::string support = "mechanics." + flanges_[size_t(jd.joint)].support;
+    const std::string lib = linear ? kTranslational : kRotational;
+    const std::string rest = linear ? "s_rel0" : "phi_rel0";
+    const std::string effort_unit = linear ? "N" : "N m", position_unit = linear ? "m" : "rad";
+
+    drive_ = nullptr;
+    owner_ = "joint dynamics of " + quoted(jd.name);
+    prefix_ = sanitize_identifier(jd.name, "joint");
+    result_.joint_dynamics.push_back({index, prefix_, {}});
+    parts_ = &result_.joint_dynamics.back();
+    first_component_ = out_.components.size();
+    connects_.clear();
+
+    std::string compliant;
+    const std::string damping_text = "damping " + number_text(jd.damping) + " " + effort_unit + " s/" + position_unit;
+    const std::string spring_text = "stiffness " + number_text(jd.stiffness) + " " + effort_unit + "/" + position_unit +
+                                    " about " + number_text(jd.rest) + " " + position_unit;
+    if (jd.damping > 0 && jd.stiffness > 0)
+        compliant = add("spring_damper", lib + "Components.SpringDamper",
+                        {{"c", number_text(jd.stiffness)}, {"d", number_text(jd.damping)}, {rest, number_text(jd.rest)}},
+                        spring_text + ", " + damping_text);
+    else if (jd.stiffness > 0)
+        compliant = add("spring", lib + "Components.Spring", {{"c", number_text(jd.stiffness)}, {rest, number_text(jd.rest)}},
+                        spring_text);
+    else if (jd.damping > 0)
+        compliant = add("damper", lib + "Components.Damper", {{"d", number_text(jd.damping)}}, damping_text);
+    if (!compliant.empty()) {
+        connect(support, compliant + ".flange_a");
+        connect(compliant + ".flange_b", axis);
+    }
+    if (jd.coulomb > 0) {
+        const std::string table = "[0, " + number_text(jd.coulomb) + "]";
+        const std::string friction =
+            add("friction", lib + (linear ? "Components.SupportFriction" : "Components.BearingFriction"),
+                {{linear ? "f_pos" : "tau_pos", table}, {"peak", "1"}},
+                "Coulomb friction " + number_text(jd.coulomb) + " " + effort_unit + " (stick and slip)");
+        connect(friction + ".flange_a", axis);
+    }
+    if (jd.armature > 0) {
+        const std::string armature =
+            add("armature", lib + (linear ? "Components.Mass" : "Components.Inertia"),
+                {{linear ? "m" : "J", number_text(jd.armature)}},
+                "armature " + number_text(jd.armature) + (linear ? " kg" : " kg m2") + " on the joint");
+        connect(armature + ".flange_a", axis);
+    }
+    if (out_.components.size() == first_component_) {  // nothing MSL needs (limits only, or all zero)
+        result_.joint_dynamics.pop_back();
+        return;
+    }
+    out_.components[first_component_].comment =
+        "Joint dynamics of " + std::string(linear ? "prismatic " : "revolute ") + quoted(jd.name);
+    connects_.front().comment = "Joint dynamics of " + quoted(jd.name);
+    for (ModelicaConnect& cn : connects_) out_.connects.push_back(std::move(cn));
+}
+
 MechatronicModel MechatronicBuilder::build() {
     const ExportSettings& settings = model_.settings();
     for (const char* fixed : {"mechanics", "Modelica", "ModelicaServices", "Complex", "Mechanics", "Mechatronic",
@@ -335,10 +416,12 @@ MechatronicModel MechatronicBuilder::build() {
 
     out_.header = "Generated by mbx from " + quoted(settings.model_name) +
                   ". Do not edit: every export rewrites this file.\n"
-                  "The drives of the mechanism acting on Mechanics; put your changes in UserModel.mo.";
+                  "The drives and joint dynamics of the mechanism acting on Mechanics; put your changes in "
+                  "UserModel.mo.";
     out_.within = package_;
     out_.name = "Mechatronic";
-    out_.description = "Drives of " + quoted(settings.model_name) + " on its multibody model (generated by mbx)";
+    out_.description = "Drives and joint dynamics of " + quoted(settings.model_name) +
+                       " on its multibody model (generated by mbx)";
     ModelicaComponent mechanics;
     mechanics.class_name = package_ + ".Mechanics";
     mechanics.name = "mechanics";
@@ -353,7 +436,8 @@ MechatronicModel MechatronicBuilder::build() {
         const std::vector<MotionPoint>& points = settings.drives[i].spec.motion.points();
         if (!points.empty()) stop = std::max(stop, points.back().time);
     }
-    if (result_.drives.empty()) return {};
+    for (size_t i = 0; i < settings.joint_dynamics.size(); ++i) add_joint_dynamics(int(i));
+    if (result_.drives.empty() && result_.joint_dynamics.empty()) return {};
     out_.annotation = "experiment(StopTime = " + number_text(stop) + ", Interval = " + number_text(stop / 500) +
                       ", Tolerance = 1e-06)";
     result_.stop_time = stop;

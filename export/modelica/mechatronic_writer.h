@@ -45,6 +45,21 @@
 // N_t^2); while accelerating, the lossy gear also scales the reflected
 // inertia torque by eta (1/eta when back-driven), as a real gear does.
 //
+// Joint dynamics (ExportSettings::joint_dynamics), per joint on the same axis
+// flange, components named <joint>_<role>, each description starting with
+// "joint dynamics of '<joint>'":
+//   spring_damper, spring, damper  Rotational (Translational) SpringDamper,
+//                         Spring or Damper with c, d and the rest position
+//                         (phi_rel0 or s_rel0) between support_<joint> and
+//                         axis_<joint>: its relative coordinate is the joint's
+//   friction              Rotational.Components.BearingFriction (tau_pos =
+//                         [0, coulomb]) or Translational.Components.
+//                         SupportFriction (f_pos), peak 1, on the axis: MSL's
+//                         stick/slip Coulomb friction, no regularisation speed
+//   armature              Rotational Inertia (J) or Translational Mass (m) on
+//                         the axis
+// Limits have no MSL counterpart on a MultiBody joint: they become a note.
+//
 // The drive's housing is MSL's implicit fixed support (useSupport = false),
 // which is where MSL's Revolute and Prismatic put their support flange too
 // (fixed in the world), so support_<joint> is left free.
@@ -68,13 +83,16 @@ struct ModelicaDriveComponents {
 struct MechatronicModel {
     std::string text;  // Mechatronic.mo; "" when no drive could be connected
     std::vector<ModelicaDriveComponents> drives;
+    // Per joint with joint dynamics MSL can hold; `drive` is then the
+    // ExportSettings::joint_dynamics index.
+    std::vector<ModelicaDriveComponents> joint_dynamics;
     bool uses_discrete_controller = false;
     bool uses_smooth_target = false;
     double stop_time = 0;  // the experiment's StopTime
 };
 
-// Mechatronic.mo for model.settings().drives, given Mechanics.mo's flange
-// names. A drive whose joint has no axis flange in Mechanics (a revolute
+// Mechatronic.mo for model.settings().drives and joint_dynamics, given
+// Mechanics.mo's flange names ("" text when neither has anything to write). A drive whose joint has no axis flange in Mechanics (a revolute
 // that carries a planar-loop constraint) is left out with a note.
 MechatronicModel write_mechatronic(ExportModel& model, const std::string& package,
                                    const std::vector<JointFlanges>& flanges);

@@ -26,8 +26,8 @@ std::string user_model_file(const std::string& package, const ExportSettings& se
     const double stop = stop_time > 0 ? stop_time : settings.stop_time > 0 ? settings.stop_time : 10;
     const std::string head =
         std::string("// Your model: mbx writes this file once and never overwrites it.\n") +
-        (mechatronic ? "// Mechanics.mo and Mechatronic.mo (the drives on Mechanics) are regenerated on\n"
-                       "// every export; add your components and equations here.\n"
+        (mechatronic ? "// Mechanics.mo and Mechatronic.mo (drives and joint dynamics on Mechanics) are\n"
+                       "// regenerated on every export; add your components and equations here.\n"
                      : "// Mechanics.mo is regenerated on every export; add your components and\n"
                        "// equations here (actuators on the axis_*/support_* flanges, sensors, ...).\n");
     const std::string base = mechatronic ? "Mechatronic" : "Mechanics";
@@ -48,9 +48,11 @@ void export_modelica(ExportModel& model, OutputFiles& out) {
 
     std::vector<JointFlanges> flanges;
     std::string mechanics = write_mechanics(model, package, &flanges);
-    // The drives, when there are any, as a model of their own around Mechanics.
+    // The drives and joint dynamics, when there are any, as a model of their
+    // own around Mechanics.
     MechatronicModel mechatronic;
-    if (!settings.drives.empty()) mechatronic = write_mechatronic(model, package, flanges);
+    if (!settings.drives.empty() || !settings.joint_dynamics.empty())
+        mechatronic = write_mechatronic(model, package, flanges);
     const bool drives = !mechatronic.text.empty();
 
     out.push_back({dir + "package.mo", package_file(package, settings)});

@@ -116,8 +116,16 @@ std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
             set_number(lim, "effort", drive ? drive->effort_limit : kUrdfEffortLimit);
             set_number(lim, "velocity", drive ? drive->velocity_limit : kUrdfVelocityLimit);
         }
-        if (drive && drive->servo.emf_damping > 0)
-            set_number(xj.append_child("dynamics"), "damping", drive->servo.emf_damping);
+        // URDF's dynamics: viscous damping (the motor's back-EMF braking
+        // and the joint's own) and dry friction.
+        const ResolvedJointDynamics* jd = u.spherical_axis < 0 ? model.joint_dynamics_of(u.source) : nullptr;
+        const double damping = (drive ? drive->servo.emf_damping : 0) + (jd ? jd->damping : 0);
+        const double friction = jd ? jd->coulomb : 0;
+        if (damping > 0 || friction > 0) {
+            pugi::xml_node dyn = xj.append_child("dynamics");
+            if (damping > 0) set_number(dyn, "damping", damping);
+            if (friction > 0) set_number(dyn, "friction", friction);
+        }
     }
     write_transmissions(robot, model, L);
     std::ostringstream os;
@@ -137,6 +145,16 @@ void add_notes(ExportModel& model, const UrdfLayout& L) {
                            name + "_x, " + name + "_y, " + name +
                            "_z about the x, y, z axes of its joint frame (two massless links between them); "
                            "singular where the middle angle is +-90 degrees");
+        if (const ResolvedJointDynamics* jd = u.spherical_axis < 0 ? model.joint_dynamics_of(u.source) : nullptr) {
+            std::string lost;
+            if (jd->stiffness > 0) lost = "its spring (stiffness " + number_text(jd->stiffness) + ", rest " + number_text(jd->rest) + ")";
+            if (jd->armature > 0)
+                lost += (lost.empty() ? "its armature " : " and its armature ") + number_text(jd->armature);
+            if (!lost.empty())
+                model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),
+                           "URDF has no joint spring or armature: joint '" + joint.name + "' is written without " +
+                               lost + " (its damping, friction and limits are written)");
+        }
         if (u.default_range)
             model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),
                        "prismatic joint '" + joint.name + "' has no CAD limits; URDF requires some, so it is given +-" +

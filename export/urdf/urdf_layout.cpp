@@ -21,29 +21,30 @@ Vec3 rpy_from_rotation(const Mat3& r) {
 
 namespace {
 
-const char* revolute_type(const Joint& j) { return j.has_limits ? "revolute" : "continuous"; }
-
 // One URDF joint from a mechanism joint's placement; `rotate` is the child
-// link's orientation in the joint frame.
-UrdfJoint single_joint(const Joint& joint, int source, const Pose& origin_rotated, const Mat3& rotate,
-                       const Vec3& axis) {
+// link's orientation in the joint frame. Limits are the model's (the joint
+// dynamics' when given, else the CAD joint's).
+UrdfJoint single_joint(const ExportModel& model, const Joint& joint, int source, const Pose& origin_rotated,
+                       const Mat3& rotate, const Vec3& axis) {
     UrdfJoint u;
     u.source = source;
     u.origin = origin_rotated;
     u.axis = (rotate.transpose() * axis).normalized();
+    double lower = 0, upper = 0;
+    const bool limited = joint.type != MBX_PRIMITIVE_SPHERICAL && model.limits(source, lower, upper);
     switch (joint.type) {
     case MBX_PRIMITIVE_REVOLUTE:
-        u.type = revolute_type(joint);
-        u.has_limit = joint.has_limits;
-        u.lower = joint.lower;
-        u.upper = joint.upper;
+        u.type = limited ? "revolute" : "continuous";
+        u.has_limit = limited;
+        u.lower = lower;
+        u.upper = upper;
         break;
     case MBX_PRIMITIVE_PRISMATIC:
         u.type = "prismatic";
         u.has_limit = true;  // URDF requires one
-        u.default_range = !joint.has_limits;
-        u.lower = joint.has_limits ? joint.lower : -kUrdfPrismaticRange;
-        u.upper = joint.has_limits ? joint.upper : kUrdfPrismaticRange;
+        u.default_range = !limited;
+        u.lower = limited ? lower : -kUrdfPrismaticRange;
+        u.upper = limited ? upper : kUrdfPrismaticRange;
         break;
     case MBX_PRIMITIVE_WELD:
     case MBX_PRIMITIVE_SPHERICAL:  // split by the caller
@@ -115,7 +116,7 @@ UrdfLayout plan_urdf(const ExportModel& model) {
         L.link_in_body[size_t(b)] = Pose{Mat3::Identity(), p.joint_to_child.inverse().position};
 
         if (joint.type != MBX_PRIMITIVE_SPHERICAL) {
-            UrdfJoint u = single_joint(joint, j, joint_in_parent * turn, rotate, p.axis);
+            UrdfJoint u = single_joint(model, joint, j, joint_in_parent * turn, rotate, p.axis);
             u.name = L.joint_name[size_t(j)];
             u.parent_link = parent_link;
             u.child_link = add_link(body_name[size_t(b)], b);

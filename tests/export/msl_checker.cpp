@@ -430,6 +430,12 @@ const std::map<std::pair<std::string, std::string>, std::string>& connector_tabl
         t[{rot + "Interfaces.PartialTwoFlanges", "flange_b"}] = kRotB;
         t[{rot + "Interfaces.PartialElementaryTwoFlangesAndSupport2", "flange_a"}] = kRotA;
         t[{rot + "Interfaces.PartialElementaryTwoFlangesAndSupport2", "flange_b"}] = kRotB;
+        t[{rot + "Interfaces.PartialCompliant", "flange_a"}] = kRotA;
+        t[{rot + "Interfaces.PartialCompliant", "flange_b"}] = kRotB;
+        t[{rot + "Interfaces.PartialCompliantWithRelativeStates", "flange_a"}] = kRotA;
+        t[{rot + "Interfaces.PartialCompliantWithRelativeStates", "flange_b"}] = kRotB;
+        t[{trans + "Interfaces.PartialTwoFlanges", "flange_a"}] = kTransA;
+        t[{trans + "Interfaces.PartialTwoFlanges", "flange_b"}] = kTransB;
         t[{rot + "Interfaces.PartialElementaryRotationalToTranslational", "flangeR"}] = kRotA;
         t[{rot + "Interfaces.PartialElementaryRotationalToTranslational", "flangeT"}] = kTransB;
         t[{rot + "Interfaces.PartialAbsoluteSensor", "flange"}] = kRotA;
@@ -505,6 +511,13 @@ void patch_index_gaps(std::map<std::string, ClassInfo>& classes) {
     add_extends("Modelica.Mechanics.Rotational.Components.IdealGear",
                 "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryTwoFlangesAndSupport2");
     add_extends("Modelica.Blocks.Sources.Constant", "Interfaces.SO");
+    // Joint dynamics components (MSL 4.0 sources: each extends these first).
+    add_extends("Modelica.Mechanics.Rotational.Components.Damper",
+                "Modelica.Mechanics.Rotational.Interfaces.PartialCompliantWithRelativeStates");
+    add_extends("Modelica.Mechanics.Rotational.Components.SpringDamper",
+                "Modelica.Mechanics.Rotational.Interfaces.PartialCompliantWithRelativeStates");
+    add_extends("Modelica.Mechanics.Rotational.Components.BearingFriction",
+                "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryTwoFlangesAndSupport2");
     if (!classes.count("Modelica.Blocks.Sources.CombiTimeTable") &&
         classes.count("Modelica.Blocks.Sources.SineVariableFrequencyAndAmplitude.CombiTimeTable")) {
         ClassInfo info;
