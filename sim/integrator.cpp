@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sim/cvode_session.h"
+
 namespace mbx::sim {
 
 const char* integrator_name(IntegratorKind k) {
@@ -114,20 +116,27 @@ void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings) {
 void advance(const Model& m, Data& d, const IntegratorSettings& settings, double t_end) {
     if (!std::isfinite(t_end))
         throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name), "the end time is not finite");
-    if (settings.kind == IntegratorKind::Accurate)
-        throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name), "the accurate integrator is not available in this build");
+    if (settings.kind == IntegratorKind::Accurate) {
+        AccurateRequest request;
+        request.stop_time = t_end;
+        accurate_advance(m, d, settings, request);
+        return;
+    }
     if (!(settings.step > 0)) throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name), "the step must be positive");
     // Times from a step count, so that no round-off accumulates over long runs.
     const double t0 = d.time;
     const double span = t_end - t0;
     if (span <= 0) return;
-    const long long whole = (long long)std::floor(span / settings.step * (1 + 1e-12));
+    // Whole steps up to t_end (within a billionth of a step, so that an end
+    // time carrying round-off does not add a sliver of a step), then the rest.
+    const double tolerance = 1e-9 * settings.step;
+    const long long whole = (long long)std::floor((span + tolerance) / settings.step);
     for (long long k = 1; k <= whole; ++k) {
         fixed_step(m, d, settings);
         d.time = t0 + double(k) * settings.step;
     }
     const double rest = t_end - d.time;
-    if (rest > 1e-12 * settings.step) {
+    if (rest > tolerance) {
         IntegratorSettings last = settings;
         last.step = rest;
         fixed_step(m, d, last);
