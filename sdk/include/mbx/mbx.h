@@ -662,8 +662,32 @@ MBX_API mbx_status mbx_mechatronics_set_motion(mbx_context *context, mbx_mechatr
                                                mbx_interpolation interpolation);
 MBX_API uint32_t mbx_mechatronics_drive_count(const mbx_mechatronics *mechatronics);
 
-/* Resolves every drive against the mechanism and attaches them (replacing
- * earlier ones; NULL detaches). Fails with MBX_ERROR_INVALID_INPUT, attaching
+/* Joint dynamics of one revolute or prismatic joint (ABI 6), SI: what the
+ * description file's <joint> element holds (docs/mechatronics.md). They act
+ * in the simulator and every export carries them. */
+typedef struct mbx_joint_dynamics_desc {
+    uint32_t struct_size;
+    const char *constraint_id;  /* the CAD joint; required */
+    int32_t primitive_index;    /* position in its chain; -1: its only prismatic/revolute primitive */
+    double damping;             /* N m s/rad or N s/m */
+    double coulomb;             /* friction effort while sliding, N m or N */
+    double coulomb_velocity;    /* regularisation speed of the fixed-step law; 0: the simulator's default */
+    double stiffness;           /* N m/rad or N/m, about `rest` */
+    double rest;                /* rad or m */
+    double armature;            /* kg m^2 or kg, added to the joint's inertia (and to a drive's) */
+    int32_t limited;            /* 1: lower/upper replace the CAD joint's limits */
+    double lower, upper;        /* rad or m */
+} mbx_joint_dynamics_desc;
+
+/* Sets the joint dynamics of (constraint_id, primitive_index), replacing
+ * earlier ones on that joint. MBX_ERROR_INVALID_INPUT for a negative or
+ * non-finite coefficient or lower > upper; checked against the mechanism by
+ * mbx_mechanism_set_mechatronics (unknown, weld, spherical or cut joint). */
+MBX_API mbx_status mbx_mechatronics_set_joint_dynamics(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                       const mbx_joint_dynamics_desc *dynamics);
+
+/* Resolves every drive and every joint's dynamics against the mechanism
+ * and attaches them (replacing earlier ones; NULL detaches). Fails with MBX_ERROR_INVALID_INPUT, attaching
  * nothing, when a drive names an unknown constraint, a joint that cannot be
  * driven (weld, spherical, cut) or driven twice, a missing library object or
  * one of the wrong kind, an override that is not editable or out of bounds,
@@ -945,6 +969,7 @@ typedef struct mbx_api {
     mbx_status (*sim_get_drive_signals)(const mbx_sim_data *, uint32_t, mbx_sim_drive_signals *);
     mbx_status (*sim_get_stats)(const mbx_sim_data *, mbx_sim_stats *);
     mbx_status (*sim_run)(mbx_context *, mbx_sim_data *, const mbx_sim_run_options *, const char *);
+    mbx_status (*mechatronics_set_joint_dynamics)(mbx_context *, mbx_mechatronics *, const mbx_joint_dynamics_desc *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

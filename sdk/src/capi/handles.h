@@ -8,6 +8,7 @@
 #include "assembly/shape_loader.h"
 #include "core/finding.h"
 #include "mechatronics/drive.h"
+#include "mechatronics/joint_dynamics.h"
 #include "mbx/mbx.h"
 #include "translator/mechanism.h"
 
@@ -46,6 +47,7 @@ struct mbx_mechanism {
     std::vector<std::unique_ptr<std::vector<mbx::Mesh>>> shapes;  // per rigid body, loaded on demand
     mutable std::unordered_map<std::string, int> part_index;       // built on the first lookup
     std::vector<mbx::Drive> drives;  // resolved by mbx_mechanism_set_mechatronics
+    std::vector<mbx::ResolvedJointDynamics> joint_dynamics;  // idem
 
     // Meshes of rigid body `body`, asked from the host once, then cached.
     // `m` is passed because during translation `model` is not set yet.

@@ -194,6 +194,38 @@ MBX_API mbx_status mbx_mechatronics_set_motion(mbx_context* context, mbx_mechatr
 
 MBX_API uint32_t mbx_mechatronics_drive_count(const mbx_mechatronics* m) { return m ? uint32_t(m->spec.drives.size()) : 0; }
 
+MBX_API mbx_status mbx_mechatronics_set_joint_dynamics(mbx_context* context, mbx_mechatronics* m,
+                                                       const mbx_joint_dynamics_desc* dynamics) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !dynamics) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or dynamics is NULL");
+    return guarded(context, [&] {
+        mbx_joint_dynamics_desc d{};
+        if (dynamics->struct_size < 2 * sizeof(uint32_t))
+            throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{}, "mbx_joint_dynamics_desc.struct_size is too small");
+        std::memcpy(&d, dynamics, std::min<size_t>(dynamics->struct_size, sizeof d));
+        const std::string id = text_or_empty(d.constraint_id);
+        if (id.empty()) throw Error(MBX_ERROR_INVALID_INPUT, Subject{}, "joint dynamics need a constraint_id");
+        JointDynamicsSpec spec;
+        spec.joint = {id, d.primitive_index};
+        spec.damping = d.damping, spec.coulomb = d.coulomb, spec.coulomb_velocity = d.coulomb_velocity;
+        spec.stiffness = d.stiffness, spec.rest = d.rest, spec.armature = d.armature;
+        spec.limited = d.limited != 0, spec.lower = d.lower, spec.upper = d.upper;
+        const Subject joint = Subject::constraint(id, "");
+        for (const auto& [name, value] : joint_dynamics_coefficients(spec))
+            if (!std::isfinite(value) || value < 0)
+                throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': " + name + " must be finite and not negative");
+        if (!std::isfinite(spec.rest)) throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': rest is not finite");
+        if (spec.limited && !(std::isfinite(spec.lower) && std::isfinite(spec.upper) && spec.lower <= spec.upper))
+            throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': limits need finite lower <= upper");
+        for (JointDynamicsSpec& existing : m->spec.joint_dynamics)
+            if (existing.joint.constraint_id == id && existing.joint.primitive == d.primitive_index) {
+                existing = spec;
+                return;
+            }
+        m->spec.joint_dynamics.push_back(spec);
+    });
+}
+
 MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mechanism* mechanism,
                                                   const mbx_mechatronics* m) {
     if (!context) return MBX_ERROR_INVALID_ARGUMENT;
@@ -201,6 +233,7 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
     return guarded(context, [&] {
         if (!m) {
             mechanism->drives.clear();
+            mechanism->joint_dynamics.clear();
             return;
         }
         std::vector<DriveError> errors;
@@ -212,7 +245,18 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
                                           : Subject{MBX_SUBJECT_FILE, errors.front().file, errors.front().object};
             fail_with(errors, "drives do not fit the mechanism", &joint);
         }
+        std::vector<ResolvedJointDynamics> dynamics = resolve_joint_dynamics(m->spec, *mechanism->model, errors);
+        if (!errors.empty()) {
+            const LibraryError& first = errors.front();
+            const JointDynamicsSpec* culprit = nullptr;
+            for (size_t i = 0; i < m->spec.joint_dynamics.size() && !culprit; ++i)
+                if (i >= dynamics.size() || dynamics[i].source != int(i)) culprit = &m->spec.joint_dynamics[i];
+            const Subject joint = culprit ? Subject::constraint(culprit->joint.constraint_id, first.object)
+                                          : Subject{MBX_SUBJECT_FILE, first.file, first.object};
+            fail_with(errors, "joint dynamics do not fit the mechanism", &joint);
+        }
         mechanism->drives = std::move(drives);
+        mechanism->joint_dynamics = std::move(dynamics);
     });
 }
 

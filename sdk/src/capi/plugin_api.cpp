@@ -64,6 +64,7 @@ const mbx_api kApi = {
     mbx_sim_get_drive_signals,
     mbx_sim_get_stats,
     mbx_sim_run,
+    mbx_mechatronics_set_joint_dynamics,
 };
 
 }  // namespace

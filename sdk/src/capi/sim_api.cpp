@@ -7,6 +7,7 @@
 #include "capi/guard.h"
 #include "capi/sim_handles.h"
 #include "sim/build_model.h"
+#include "sim/resolved_joint_dynamics.h"
 
 using namespace mbx;
 using namespace mbx::sim;
@@ -77,6 +78,7 @@ MBX_API mbx_status mbx_sim_model_create(mbx_context* context, const mbx_mechanis
             build.gravity = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
         }
         build.drives = mechanism->drives;
+        build.joint_dynamics = joint_dynamics_by_joint(mechanism->joint_dynamics);
         auto handle = std::make_unique<mbx_sim_model>();
         const int integrator = raw_enum(o.integrator);
         switch (integrator) {
