@@ -1,0 +1,136 @@
+// `mbx simulate`: options, the files a run writes (checked against closed
+// forms), and that every refusal exits non-zero with a message and writes
+// nothing.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "adapter_test_support.h"
+
+namespace {
+
+struct Run {
+    int code = -1;
+    std::string out, err;
+};
+
+Run run_cli(const atest::TempDir& dir, const std::string& arguments) {
+    const std::string command = std::string("'") + MBX_CLI_PATH + "' " + arguments + " >'" + dir.file("stdout") +
+                                "' 2>'" + dir.file("stderr") + "'";
+    const int status = std::system(command.c_str());
+    Run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = atest::read_file(dir.file("stdout"));
+    r.err = atest::read_file(dir.file("stderr"));
+    return r;
+}
+
+struct Csv {
+    std::vector<std::string> columns;
+    std::vector<std::vector<double>> rows;
+    int column(const std::string& name) const {
+        for (size_t k = 0; k < columns.size(); ++k)
+            if (columns[k] == name) return int(k);
+        return -1;
+    }
+};
+
+Csv read_csv(const std::string& path) {
+    std::istringstream in(atest::read_file(path));
+    Csv c;
+    std::string line;
+    std::getline(in, line);
+    std::istringstream header(line);
+    for (std::string cell; std::getline(header, cell, ',');) c.columns.push_back(cell);
+    while (std::getline(in, line)) {
+        std::istringstream row(line);
+        std::vector<double> values;
+        for (std::string cell; std::getline(row, cell, ',');) values.push_back(std::stod(cell));
+        REQUIRE(values.size() == c.columns.size());
+        c.rows.push_back(values);
+    }
+    return c;
+}
+
+const std::string kEmps = std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml";
+
+}  // namespace
+
+TEST_CASE("cli simulate: the EMPS carriage falls along its slide as gravity along it says") {
+    atest::TempDir dir("mbx_cli_simulate");
+    // Gravity 2 m/s^2 along the slide (+x) and a start at 0.1 m/s: q = 0.1 t + t^2,
+    // which RK4 integrates exactly.
+    const Run r = run_cli(dir, "simulate '" + kEmps + "' -o '" + dir.file("out") +
+                                   "' --gravity 2,0,0 --set 40:-:41.qd=0.1 --stop-time 0.5 --output-step 0.05");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("trajectory.csv") != std::string::npos);
+    const Csv c = read_csv(dir.file("out/trajectory.csv"));
+    REQUIRE(c.columns.size() == 3);
+    CHECK(c.columns[1] == "BED--CARRIAGE.q");
+    CHECK(c.columns[2] == "BED--CARRIAGE.qd");
+    REQUIRE(c.rows.size() == 11);
+    for (const auto& row : c.rows) {
+        const double t = row[0];
+        CHECK(row[1] == doctest::Approx(0.1 * t + t * t).epsilon(1e-12));
+        CHECK(row[2] == doctest::Approx(0.1 + 2 * t).epsilon(1e-12));
+    }
+    const std::string json = atest::read_file(dir.file("out/simulation.json"));
+    CHECK(json.find("\"steps\": 500") != std::string::npos);
+    CHECK(json.find("\"gravity\"") != std::string::npos);
+}
+
+TEST_CASE("cli simulate: a set coordinate of the four-bar moves the others, and every loop stays closed") {
+    atest::TempDir dir("mbx_cli_simulate");
+    const Run r = run_cli(dir, "simulate fourbar -o '" + dir.file("out") + "' --set rev_A.q=0.3 --stop-time 0.3");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const Csv c = read_csv(dir.file("out/trajectory.csv"));
+    const int a = c.column("rev_A.q"), b = c.column("rev_B.q");
+    REQUIRE(a > 0);
+    REQUIRE(b > 0);
+    CHECK(c.rows[0][size_t(a)] == doctest::Approx(0.3).epsilon(1e-12));
+    CHECK(std::fabs(c.rows[0][size_t(b)]) > 0.01);  // solved for, not left at the CAD pose
+    const std::string json = atest::read_file(dir.file("out/simulation.json"));
+    const size_t at = json.find("\"max_loop_closure_residual\": ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(json.substr(at + 29)) < 1e-9);
+}
+
+TEST_CASE("cli simulate: refusals exit non-zero, say why and write nothing") {
+    atest::TempDir dir("mbx_cli_simulate");
+    const std::string out = dir.file("out");
+    struct Case {
+        std::string args;
+        int code;
+        std::string says;
+    };
+    const std::vector<Case> cases = {
+        {"fourbar -o '" + out + "' --set nothing.q=1", 1, "no joint 'nothing'"},
+        {"fourbar -o '" + out + "' --set rev_A=1", 2, "--set takes"},
+        {"fourbar -o '" + out + "' --set rev_A.q=abc", 2, "--set takes"},
+        {"fourbar -o '" + out + "' --integrator magic", 2, "--integrator takes"},
+        {"fourbar -o '" + out + "' --gravity 1,2", 2, "--gravity takes"},
+        {"fourbar -o '" + out + "' --step -1", 2, "--step needs a positive number"},
+        {"fourbar -o '" + out + "' --stop-time 1 --step 0.003 --output-step 0.01", 1, "whole number of steps"},
+        {"fourbar -o '" + out + "' --set rev_A.q=0.3 --set rev_B.q=0.3 --set rev_C.q=-1.5", 1, "loop"},
+        {"fourbar -o '" + out + "' --set rev_A.q=nan", 2, "--set takes"},
+        {"no_such_builtin -o '" + out + "'", 1, "no built-in assembly"},
+        {"fourbar", 2, "usage: mbx simulate"},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.args);
+        const Run r = run_cli(dir, "simulate " + c.args);
+        CHECK(r.code == c.code);
+        CHECK(r.err.find(c.says) != std::string::npos);
+        CHECK(!std::filesystem::exists(out + "/trajectory.csv"));
+        CHECK(!std::filesystem::exists(out + "/simulation.json"));
+    }
+}
