@@ -139,8 +139,9 @@ template <class S> void articulated_body(const ModelT<S>& m, DataT<S>& d, const 
             d.D_inv[b](0, 0) = S(1) / D(0, 0);
         } else {
             Eigen::LLT<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(D);
-            if (llt.info() != Eigen::Success || !(abs(llt.matrixLLT().diagonal().minCoeff()) >
-                                                  S(std::sqrt(double(m.undetermined_inertia(JointKind::Revolute))))))
+            using std::sqrt;
+            if (llt.info() != Eigen::Success ||
+                !(abs(llt.matrixLLT().diagonal().minCoeff()) > sqrt(m.undetermined_inertia(JointKind::Revolute))))
                 throw UndeterminedJoint{int(b - 1)};
             d.D_inv[b] = llt.solve(Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Identity(n, n));
         }

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <type_traits>
 
 namespace mbx::sim {
 
@@ -18,6 +19,15 @@ template <class S> using VecXT = Eigen::Matrix<S, Eigen::Dynamic, 1>;
 template <class S> using MatXT = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
 // A joint's motion subspace: 6 x (1, 3 or 6) without heap allocation.
 template <class S> using SubspaceT = Eigen::Matrix<S, 6, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+
+// The plain value of a scalar: itself for double, the real part of a Ceres
+// Jet (its member `a`), for decisions and diagnostics that carry no derivative.
+template <class S> double value_of(const S& x) {
+    if constexpr (std::is_arithmetic_v<S>)
+        return double(x);
+    else
+        return value_of(x.a);
+}
 
 template <class S> Mat3T<S> skew(const Vec3T<S>& v) {
     Mat3T<S> m;
