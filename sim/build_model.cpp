@@ -5,6 +5,7 @@
 #include "kinematics/placement.h"
 #include "sim/data.h"
 #include "sim/dynamics.h"
+#include "sim/loop_closure.h"
 
 namespace mbx::sim {
 namespace {
@@ -204,6 +205,12 @@ Model build_model(const Mechanism& m, const BuildOptions& options) {
     Data data(model);
     update_positions(model, data);
     mass_matrix(model, data);
+    if (!model.closures.empty()) {
+        // The assembly pose closes every loop (validate refuses cut joints whose frames are apart).
+        update_closure_jacobian(model, data);
+        data.closure_factor.factor(data.J);
+        model.closure_rank = data.closure_factor.rank;
+    }
     for (JointT<double>& j : model.joints) {
         JointDynamics& jd = j.dynamics;
         if (!jd.limited || (jd.limit_stiffness > 0 && jd.limit_damping > 0)) continue;

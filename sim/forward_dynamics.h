@@ -5,6 +5,7 @@
 // the closures determine their motion.
 #pragma once
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <Eigen/Eigenvalues>
 #include <string>
 
@@ -54,6 +55,9 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
     }
     ClosureFactor<S>& f = d.closure_factor;
     f.factor(*J);
+    // Off the manifold (RK4 stages) redundant closure rows gain tiny singular
+    // values; counting them would blow the particular solution up.
+    if (m.closure_rank >= 0) f.rank = std::min(f.rank, m.closure_rank + int(J->rows() - d.J.rows()));
     const VecXT<S> particular = f.particular(*gamma);
     const auto N = f.null_space();
     d.reduced_mass.noalias() = N.transpose() * d.M * N;
@@ -68,11 +72,14 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
     if (!ok) {
         // The direction of the motion nothing resists: the joint with the
         // largest share in the reduced mass matrix's weakest eigenvector.
-        Eigen::SelfAdjointEigenSolver<MatXT<S>> eig(d.reduced_mass);
-        const VecXT<S> dir = N * eig.eigenvectors().col(0);
+        // (On plain values: the eigen-solver needs a real scalar type.)
+        const Eigen::MatrixXd reduced = d.reduced_mass.unaryExpr([](const S& x) { return value_of(x); });
+        const Eigen::MatrixXd basis = MatXT<S>(N).unaryExpr([](const S& x) { return value_of(x); });
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(reduced);
+        const Eigen::VectorXd dir = basis * eig.eigenvectors().col(0);
         int dof = 0;
         for (int k = 1; k < m.nv; ++k)
-            if (abs(dir[k]) > abs(dir[dof])) dof = k;
+            if (std::fabs(dir[k]) > std::fabs(dir[dof])) dof = k;
         throw_undetermined(m, m.dof_joint[size_t(dof)]);
     }
     d.qacc = particular + N * ldlt.solve(rhs);

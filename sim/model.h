@@ -124,6 +124,11 @@ template <class S> struct ModelT {
     Vec3T<S> gravity = Vec3T<S>(S(0), S(0), S(-kDefaultGravity));
     VecXT<S> q_reference;            // the CAD assembly pose (every tree coordinate neutral, floating roots at their pose)
     int closure_rows = 0;            // sum of closures' rows
+    // Rank of the closure rows at the assembly pose (-1: not known). Rows
+    // redundant on the constraint manifold (spatial loops whose axes meet)
+    // are independent off it, with singular values as small as the distance
+    // to it, so rank decisions at off-manifold states (RK4 stages) are capped by this.
+    int closure_rank = -1;
     // Drives in the loop (resolved against the mechanism) and the velocity
     // coordinate each acts on; their armature is already in the joints'.
     std::vector<Drive> drives;
@@ -151,6 +156,7 @@ template <class S> struct ModelT {
         r.gravity = gravity.template cast<T>();
         r.q_reference = q_reference.template cast<T>();
         r.closure_rows = closure_rows;
+        r.closure_rank = closure_rank;
         r.drives = drives, r.drive_dof = drive_dof;
         r.coulomb_velocity = T(coulomb_velocity);
         r.mass_scale = T(mass_scale), r.length_scale = T(length_scale);

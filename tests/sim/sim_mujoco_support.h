@@ -21,24 +21,32 @@ struct Pair {
     std::vector<mbx::Mat3> ball_axes;
     Eigen::MatrixXd T;  // v_mujoco = T v_mbx
 
-    // MuJoCo's qpos/qvel from an mbx state.
-    void to_mujoco(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-        mjModel* mm = run.model.get();
-        mjData* md = run.data.get();
-        mju_copy(md->qpos, mm->qpos0, mm->nq);
+    // MuJoCo's qpos for an mbx position (a helper slide keeps its qpos0).
+    Eigen::VectorXd mujoco_qpos(const Eigen::VectorXd& q) const {
+        const mjModel* mm = run.model.get();
+        Eigen::VectorXd qpos = Eigen::Map<const Eigen::VectorXd>(mm->qpos0, mm->nq);
         for (size_t k = 0; k < model.joints.size(); ++k) {
             const auto& j = model.joints[k];
             if (mj_joint[k] < 0) continue;
-            mjtNum* qpos = md->qpos + mm->jnt_qposadr[mj_joint[k]];
+            double* x = qpos.data() + mm->jnt_qposadr[mj_joint[k]];
             if (j.kind == mbx::sim::JointKind::Spherical) {
                 const mbx::Mat3& y = ball_axes[k];
                 const Eigen::Quaterniond r(q[j.q_index], q[j.q_index + 1], q[j.q_index + 2], q[j.q_index + 3]);
                 const Eigen::Quaterniond ball(mbx::Mat3(y * r.normalized().toRotationMatrix() * y.transpose()));
-                qpos[0] = ball.w(), qpos[1] = ball.x(), qpos[2] = ball.y(), qpos[3] = ball.z();
+                x[0] = ball.w(), x[1] = ball.x(), x[2] = ball.y(), x[3] = ball.z();
             } else {
-                for (int i = 0; i < j.nq(); ++i) qpos[i] = q[j.q_index + i];
+                for (int i = 0; i < j.nq(); ++i) x[i] = q[j.q_index + i];
             }
         }
+        return qpos;
+    }
+
+    // MuJoCo's qpos/qvel from an mbx state.
+    void to_mujoco(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+        mjModel* mm = run.model.get();
+        mjData* md = run.data.get();
+        const Eigen::VectorXd qpos = mujoco_qpos(q);
+        for (int i = 0; i < mm->nq; ++i) md->qpos[i] = qpos[i];
         const Eigen::VectorXd vm = T * v;
         for (int i = 0; i < mm->nv; ++i) md->qvel[i] = vm[i];
     }
