@@ -69,10 +69,14 @@ void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed
             v_fixed[size_t(j.v_index + f.index)] = 1;
         } else {
             d.q[j.q_index + f.index] = f.value;
-            // A quaternion's components fix the whole rotation.
-            for (int k = 0; k < j.nv(); ++k)
-                if (j.nq() == 1 || (j.kind == JointKind::Free ? (f.index < 3 ? k == f.index : k >= 3) : true))
-                    q_fixed[size_t(j.v_index + k)] = 1;
+            // The velocity coordinates that move the fixed position: one for a
+            // revolute, prismatic or a free joint's translation; the whole
+            // rotation for any quaternion component.
+            const bool translation = j.kind == JointKind::Free && f.index < 3;
+            const bool rotation = j.kind == JointKind::Spherical || (j.kind == JointKind::Free && f.index >= 3);
+            const int first = translation ? f.index : rotation ? j.nv() - 3 : 0;
+            const int count = rotation ? 3 : 1;
+            for (int k = first; k < first + count; ++k) q_fixed[size_t(j.v_index + k)] = 1;
         }
     }
     for (const JointT<double>& j : m.joints) {
