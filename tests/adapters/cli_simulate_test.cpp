@@ -134,3 +134,33 @@ TEST_CASE("cli simulate: refusals exit non-zero, say why and write nothing") {
         CHECK(!std::filesystem::exists(out + "/simulation.json"));
     }
 }
+
+TEST_CASE("cli: joint dynamics of a description file reach the report, the MJCF export and the simulation") {
+    atest::TempDir dir("mbx_cli_joint_dynamics");
+    atest::write_file(dir.file("dyn.xml"), R"(<mechatronics version="1">
+  <joint constraint="fourbar/rev_A" damping="0.25" coulomb="0.05" stiffness="2" rest="0.1" armature="0.003"/>
+</mechatronics>
+)");
+    const Run t = run_cli(dir, "translate fourbar --drives '" + dir.file("dyn.xml") + "' --format mjcf -o '" +
+                                   dir.file("out") + "'");
+    INFO(t.err);
+    REQUIRE(t.code == 0);
+    const std::string report = atest::read_file(dir.file("out/report.json"));
+    CHECK(report.find("\"joint_dynamics\"") != std::string::npos);
+    CHECK(report.find("\"damping\": 0.25") != std::string::npos);
+    CHECK(atest::read_file(dir.file("out/report.txt")).find("Joint dynamics (1)") != std::string::npos);
+    const std::string mjcf = atest::read_file(dir.file("out/mjcf/fourbar.xml"));
+    CHECK(mjcf.find("damping=\"0.25\"") != std::string::npos);
+    CHECK(mjcf.find("frictionloss=\"0.05\"") != std::string::npos);
+
+    // In the simulation the spring pulls the crank towards its rest angle:
+    // released at the CAD pose (0) with gravity off, it starts moving towards +0.1.
+    const Run s = run_cli(dir, "simulate fourbar --drives '" + dir.file("dyn.xml") + "' --gravity 0,0,0 --stop-time 0.05 -o '" +
+                                   dir.file("sim") + "'");
+    INFO(s.err);
+    REQUIRE(s.code == 0);
+    const Csv c = read_csv(dir.file("sim/trajectory.csv"));
+    const int a = c.column("rev_A.q");
+    REQUIRE(a > 0);
+    CHECK(c.rows.back()[size_t(a)] > 1e-5);
+}

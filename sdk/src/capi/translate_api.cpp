@@ -73,7 +73,7 @@ MBX_API mbx_status mbx_mechanism_write_report(mbx_context* context, const mbx_me
     if (!context) return MBX_ERROR_INVALID_ARGUMENT;
     if (!mechanism || !directory || !directory[0])
         return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechanism or directory is NULL or empty");
-    return guarded(context, [&] { write_report(*mechanism->model, directory, &mechanism->drives); });
+    return guarded(context, [&] { write_report(*mechanism->model, directory, &mechanism->drives, &mechanism->joint_dynamics); });
 }
 
 }  // extern "C"

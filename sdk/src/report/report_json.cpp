@@ -21,6 +21,9 @@
 //     controller {amplifier, amplifier_gain, kp, ki, kd, kv, kvi,
 //     sample_period, delay}, motion {interpolation, points [[t, q]..]}}]
 //     (only when the mechanism has drives),
+//   joint_dynamics [{name, joint, constraint_id, primitive_index, linear,
+//     damping, coulomb, coulomb_velocity, stiffness, rest, armature,
+//     limits {lower, upper} or null}] (only when there are any),
 //   findings [{severity, code, subject {kind, id, name}, message}]
 #include "report/json_writer.h"
 #include "report/report.h"
@@ -270,9 +273,30 @@ std::size_t estimated_size(const Mechanism& m) {
     return n;
 }
 
+void write_joint_dynamics(JsonWriter& w, const Mechanism& m, const std::vector<ResolvedJointDynamics>& all) {
+    w.key("joint_dynamics").begin_array();
+    for (const ResolvedJointDynamics& d : all) {
+        const Joint& j = m.joints[static_cast<std::size_t>(d.joint)];
+        w.begin_object(Layout::Inline);
+        w.member("name", d.name).member("joint", d.joint);
+        w.member("constraint_id", m.assembly.constraints[static_cast<std::size_t>(j.constraint)].id);
+        w.member("primitive_index", j.primitive_index).member("linear", d.linear);
+        w.member("damping", d.damping).member("coulomb", d.coulomb).member("coulomb_velocity", d.coulomb_velocity);
+        w.member("stiffness", d.stiffness).member("rest", d.rest).member("armature", d.armature);
+        w.key("limits");
+        if (d.limited)
+            w.begin_object(Layout::Inline).member("lower", d.lower).member("upper", d.upper).end_object();
+        else
+            w.null();
+        w.end_object();
+    }
+    w.end_array();
+}
+
 }  // namespace
 
-std::string report_json(const Mechanism& m, const std::vector<Drive>* drives) {
+std::string report_json(const Mechanism& m, const std::vector<Drive>* drives,
+                        const std::vector<ResolvedJointDynamics>* joint_dynamics) {
     JsonWriter w(estimated_size(m));
     w.begin_object();
     w.member("mbx_version", MBX_VERSION_STRING);
@@ -284,6 +308,7 @@ std::string report_json(const Mechanism& m, const std::vector<Drive>* drives) {
     write_tree(w, m);
     write_loops(w, m);
     if (drives && !drives->empty()) write_drives(w, m, *drives);
+    if (joint_dynamics && !joint_dynamics->empty()) write_joint_dynamics(w, m, *joint_dynamics);
     write_findings(w, m);
     w.end_object();
     std::string text = w.take();

@@ -302,6 +302,20 @@ void write_drives(Text& t, const std::vector<Drive>& drives) {
     t.blank();
 }
 
+// One line per joint with dynamics: what acts on it besides the bodies.
+void write_joint_dynamics(Text& t, const std::vector<ResolvedJointDynamics>& all) {
+    t.raw("Joint dynamics (").num(static_cast<long long>(all.size())).raw(")").end_line();
+    for (const ResolvedJointDynamics& d : all) {
+        const char* rate = d.linear ? " N s/m" : " N m s/rad";
+        t.raw("  ").quoted(d.name).raw(": damping ").real(d.damping).raw(rate).raw(", Coulomb ").real(d.coulomb);
+        t.raw(d.linear ? " N" : " N m").raw(", spring ").real(d.stiffness).raw(d.linear ? " N/m" : " N m/rad");
+        t.raw(" about ").real(d.rest).raw(", armature ").real(d.armature).raw(d.linear ? " kg" : " kg m^2");
+        if (d.limited) t.raw(", limits ").real(d.lower).raw(" .. ").real(d.upper);
+        t.end_wrapped(4);
+    }
+    t.blank();
+}
+
 void write_findings(Text& t, const Mechanism& m, const Counts& c) {
     t.raw("Findings (").num(static_cast<long long>(m.findings.size())).raw(")").end_line();
     if (m.findings.empty()) t.raw("  none").end_line();
@@ -338,7 +352,8 @@ std::size_t estimated_size(const Mechanism& m) {
 
 }  // namespace
 
-std::string report_text(const Mechanism& m, const std::vector<Drive>* drives) {
+std::string report_text(const Mechanism& m, const std::vector<Drive>* drives,
+                        const std::vector<ResolvedJointDynamics>* joint_dynamics) {
     const Counts c = count(m);
     Text t(estimated_size(m));
     write_header(t, m, c);
@@ -349,6 +364,7 @@ std::string report_text(const Mechanism& m, const std::vector<Drive>* drives) {
     t.blank();
     write_shape_checks(t, m);
     if (drives && !drives->empty()) write_drives(t, *drives);
+    if (joint_dynamics && !joint_dynamics->empty()) write_joint_dynamics(t, *joint_dynamics);
     write_findings(t, m, c);
     return t.take();
 }
