@@ -137,6 +137,10 @@ bool project_positions(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, dou
         f.factor(d.J);
         step = f.particular(-d.residual);
         if (!step.allFinite()) return false;
+        // Zeroed columns leave round-off in the minimum-norm step: fixed means exactly kept.
+        if (fixed)
+            for (int k = 0; k < m.nv; ++k)
+                if ((*fixed)[size_t(k)]) step[k] = S(0);
         for (const JointT<S>& j : m.joints)
             integrate_joint<S>(j.kind, d.q.data() + j.q_index, step.data() + j.v_index, S(1));
     }
@@ -155,8 +159,13 @@ S project_velocities(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, const
         for (int k = 0; k < m.nv; ++k)
             if ((*fixed)[size_t(k)]) d.J.col(k).setZero();
     f.factor(d.J);
-    d.v -= f.particular(violation);
-    update_closure_jacobian(m, d);
+    VecXT<S> change = f.particular(violation);
+    if (fixed)
+        for (int k = 0; k < m.nv; ++k)
+            if ((*fixed)[size_t(k)]) change[k] = S(0);
+    d.v -= change;
+    // Zeroed columns must come back for the check; otherwise J is still whole.
+    if (fixed) update_closure_jacobian(m, d);
     return (d.J * d.v).template lpNorm<Eigen::Infinity>();
 }
 
