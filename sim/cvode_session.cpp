@@ -500,11 +500,19 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
     } detach{s};
 
     const bool resume = same_hand_off(s, d, is);
+    // A sample instant at the start (or a call's end time) is sampled here,
+    // with the inputs the caller has set since.
+    std::vector<double> held(m.drives.size());
+    for (size_t k = 0; k < held.size(); ++k) held[k] = d.drives.signals[k].output;
     update_controllers(m, d, d.time);
+    bool outputs_changed = false;
+    for (size_t k = 0; k < held.size(); ++k) outputs_changed |= held[k] != d.drives.signals[k].output;
     if (!resume) {
         s.rtol = is.tolerance, s.hmax = is.step, s.closure_tolerance = is.closure_tolerance;
         if (s.n > 0) set_tolerances(s, is);
         restart(s, true);
+    } else if (outputs_changed && d.time < r.stop_time) {
+        restart(s, false);
     }
 
     size_t next_sample = 0;
@@ -535,19 +543,30 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
     int tiny_steps = 0, events_here = 0;
     double last_event = -INFINITY;
     while (s.n > 0 && t < t_end) {
+        // An instant within round-off of the end time is the end time (the
+        // caller summed it): sampled by the next call, with its targets.
+        const double round_off = 1e-12 * std::max(1.0, std::fabs(t_end));
         const double instant = next_sample_instant(m, d, t);
-        const double t_stop = std::min(t_end, instant);
-        check(CVodeSetStopTime(s.mem, t_stop), "CVodeSetStopTime");
+        const bool instant_first = instant < t_end - round_off;
+        const double t_stop = instant_first ? instant : t_end;
         double t_ret = t;
-        const int flag = CVode(s.mem, t_stop, s.y, &t_ret, CV_ONE_STEP);
-        if (flag < 0) {
-            s.load(t, y_good.data());
-            fail(s, flag, t_ret);
+        int flag = CV_TSTOP_RETURN;
+        if (t_stop - t <= 1e-12 * std::max(1.0, std::fabs(t))) {
+            // Within round-off of the stop (an end time summed by the caller,
+            // an instant): there already, as CVODE would refuse so short a step.
+            t_ret = t_stop;
+        } else {
+            check(CVodeSetStopTime(s.mem, t_stop), "CVodeSetStopTime");
+            flag = CVode(s.mem, t_stop, s.y, &t_ret, CV_ONE_STEP);
+            if (flag < 0) {
+                s.load(t, y_good.data());
+                fail(s, flag, t_ret);
+            }
+            ++d.stats.steps;
+            // A step that no longer moves time would never end the run.
+            tiny_steps = t_ret - t <= 64 * 2.2e-16 * std::max(1.0, std::fabs(t)) ? tiny_steps + 1 : 0;
+            if (tiny_steps > 100) fail(s, CV_TOO_CLOSE, t_ret);
         }
-        ++d.stats.steps;
-        // A step that no longer moves time would never end the run.
-        tiny_steps = t_ret - t <= 64 * 2.2e-16 * std::max(1.0, std::fabs(t)) ? tiny_steps + 1 : 0;
-        if (tiny_steps > 100) fail(s, CV_TOO_CLOSE, t_ret);
         std::copy(N_VGetArrayPointer(s.y), N_VGetArrayPointer(s.y) + s.n, y_good.data());
         emit_until(t_ret);
         t = t_ret;
@@ -586,8 +605,10 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
             last_event = t;
             restart_needed = true;
         }
-        if (t >= instant) {
-            // A discrete controller's sample instant: new held outputs.
+        if (instant_first && t >= t_stop) {
+            // A discrete controller's sample instant: new held outputs. One
+            // at the end time is left to the next call, which may bring new
+            // targets for it.
             update_controllers(m, d, t);
             restart_needed = true;
         } else if (s.stateful_continuous) {
