@@ -12,7 +12,7 @@
 // Published anchors at 7 DoF: Pinocchio without code generation ~1 us RNEA,
 // ~3 us ABA.
 //
-//   bench_sim [seconds_per_run]   (default 0.3)
+//   bench_sim [seconds_per_run] [model]   (default 0.3 s, every model)
 #include <mujoco/mujoco.h>
 #include <unistd.h>
 
@@ -208,10 +208,62 @@ template <class F> double us_per_call(double seconds, F f) {
     return best * 1e6;
 }
 
+// Microseconds per dynamics call on the 7-DoF chain at a random state.
+void per_call(Case& c, double seconds) {
+    // Per call on the 7-DoF chain at a random state.
+    mbx::sim::Data d(c.model);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int k = 0; k < c.model.nv; ++k) d.q[k] = u(rng), d.v[k] = 2 * u(rng), d.qfrc_total[k] = u(rng);
+    Eigen::VectorXd qacc = Eigen::VectorXd::Zero(c.model.nv), tau(c.model.nv);
+    for (int k = 0; k < c.model.nv; ++k) qacc[k] = u(rng);
+    to_mujoco(c, d.q, d.v);
+    mjModel* mm = c.mm.get();
+    mjData* md = c.md.get();
+    for (int k = 0; k < c.model.nv; ++k) md->qfrc_applied[c.dof_of_v[size_t(k)]] = d.qfrc_total[k];
+    mj_forward(mm, md);
+    for (int k = 0; k < c.model.nv; ++k) md->qacc[c.dof_of_v[size_t(k)]] = qacc[k];
+    std::vector<mjtNum> rne(size_t(mm->nv));
+    const double t = seconds / 2;
+    mbx::sim::update_kinematics(c.model, d);
+    const double rnea = us_per_call(t, [&] { mbx::sim::inverse_dynamics(c.model, d, qacc, tau); g_sink = tau[0]; });
+    const double mj_rnea = us_per_call(t, [&] { mj_rne(mm, md, 1, rne.data()); g_sink = rne[0]; });
+    const double rnea_k = us_per_call(t, [&] {
+        mbx::sim::update_kinematics(c.model, d);
+        mbx::sim::inverse_dynamics(c.model, d, qacc, tau);
+        g_sink = tau[0];
+    });
+    const double mj_rnea_k = us_per_call(t, [&] {
+        mj_kinematics(mm, md);
+        mj_comPos(mm, md);
+        mj_comVel(mm, md);
+        mj_rne(mm, md, 1, rne.data());
+        g_sink = rne[0];
+    });
+    const double aba = us_per_call(t, [&] { mbx::sim::articulated_body(c.model, d, d.qfrc_total, d.qacc); g_sink = d.qacc[0]; });
+    const double crba = us_per_call(t, [&] { mbx::sim::mass_matrix(c.model, d); g_sink = d.M(0, 0); });
+    const double mj_crba = us_per_call(t, [&] { mj_crb(mm, md); g_sink = md->qM[0]; });
+    const double mj_crba_f = us_per_call(t, [&] { mj_crb(mm, md); mj_factorM(mm, md); g_sink = md->qLD[0]; });
+    const double fd = us_per_call(t, [&] { mbx::sim::forward_dynamics(c.model, d); g_sink = d.qacc[0]; });
+    const double mj_fd = us_per_call(t, [&] { mj_forward(mm, md); g_sink = md->qacc[0]; });
+    std::printf("microseconds per call, 7-DoF chain (anchors: Pinocchio without code generation ~1 RNEA, ~3 ABA)\n");
+    std::printf("%-44s %8s | %-40s %8s %6s\n", "mbx", "us", "MuJoCo", "us", "ratio");
+    auto row = [](const char* a, double x, const char* b, double y) {
+        std::printf("%-44s %8.3f | %-40s %8.3f %6.2f\n", a, x, b, y, x / y);
+    };
+    row("inverse_dynamics (RNEA)", rnea, "mj_rne", mj_rnea);
+    row("update_kinematics + inverse_dynamics", rnea_k, "mj_kinematics+comPos+comVel+rne", mj_rnea_k);
+    row("mass_matrix (CRBA)", crba, "mj_crb", mj_crba);
+    row("mass_matrix (CRBA)", crba, "mj_crb + mj_factorM", mj_crba_f);
+    row("articulated_body (ABA, kinematics done)", aba, "mj_forward", mj_fd);
+    row("forward_dynamics (kinematics + ABA)", fd, "mj_forward", mj_fd);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     const double seconds = argc > 1 ? std::atof(argv[1]) : 0.3;
+    const std::string only = argc > 2 ? argv[2] : "";
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("mbx_bench_sim_" + std::to_string(::getpid()));
     try {
@@ -230,6 +282,7 @@ int main(int argc, char** argv) {
                     "ratio", "euler mbx", "mujoco", "ratio");
         double per_body_first = 0, per_body_last = 0;
         for (Case& c : cases) {
+            if (!only.empty() && c.label != only) continue;
             const Rates rk4 = step_rates(c, mbx::sim::IntegratorKind::RK4, seconds);
             const Rates euler = step_rates(c, mbx::sim::IntegratorKind::Euler, seconds);
             std::printf("%-14s %4d %5zu | %10.0f %10.0f %6.2f | %10.0f %10.0f %6.2f\n", c.label.c_str(), c.model.nv,
@@ -239,56 +292,11 @@ int main(int argc, char** argv) {
             if (c.label == "chain7") per_body_first = per_body;
             if (c.label == "chain100") per_body_last = per_body;
         }
-        std::printf("per-body RK4 step time, chain100 / chain7 (1.0 = linear): %.2f\n\n", per_body_last / per_body_first);
+        if (per_body_first > 0 && per_body_last > 0)
+            std::printf("per-body RK4 step time, chain100 / chain7 (1.0 = linear): %.2f\n", per_body_last / per_body_first);
+        std::printf("\n");
+        if (only.empty() || only == "chain7") per_call(cases[0], seconds);
 
-        // Per call on the 7-DoF chain at a random state.
-        Case& c = cases[0];
-        mbx::sim::Data d(c.model);
-        std::mt19937 rng(3);
-        std::uniform_real_distribution<double> u(-1, 1);
-        for (int k = 0; k < c.model.nv; ++k) d.q[k] = u(rng), d.v[k] = 2 * u(rng), d.qfrc_total[k] = u(rng);
-        Eigen::VectorXd qacc = Eigen::VectorXd::Zero(c.model.nv), tau(c.model.nv);
-        for (int k = 0; k < c.model.nv; ++k) qacc[k] = u(rng);
-        to_mujoco(c, d.q, d.v);
-        mjModel* mm = c.mm.get();
-        mjData* md = c.md.get();
-        for (int k = 0; k < c.model.nv; ++k) md->qfrc_applied[c.dof_of_v[size_t(k)]] = d.qfrc_total[k];
-        mj_forward(mm, md);
-        for (int k = 0; k < c.model.nv; ++k) md->qacc[c.dof_of_v[size_t(k)]] = qacc[k];
-        std::vector<mjtNum> rne(size_t(mm->nv));
-        const double t = seconds / 2;
-        mbx::sim::update_kinematics(c.model, d);
-        const double rnea = us_per_call(t, [&] { mbx::sim::inverse_dynamics(c.model, d, qacc, tau); g_sink = tau[0]; });
-        const double mj_rnea = us_per_call(t, [&] { mj_rne(mm, md, 1, rne.data()); g_sink = rne[0]; });
-        const double rnea_k = us_per_call(t, [&] {
-            mbx::sim::update_kinematics(c.model, d);
-            mbx::sim::inverse_dynamics(c.model, d, qacc, tau);
-            g_sink = tau[0];
-        });
-        const double mj_rnea_k = us_per_call(t, [&] {
-            mj_kinematics(mm, md);
-            mj_comPos(mm, md);
-            mj_comVel(mm, md);
-            mj_rne(mm, md, 1, rne.data());
-            g_sink = rne[0];
-        });
-        const double aba = us_per_call(t, [&] { mbx::sim::articulated_body(c.model, d, d.qfrc_total, d.qacc); g_sink = d.qacc[0]; });
-        const double crba = us_per_call(t, [&] { mbx::sim::mass_matrix(c.model, d); g_sink = d.M(0, 0); });
-        const double mj_crba = us_per_call(t, [&] { mj_crb(mm, md); g_sink = md->qM[0]; });
-        const double mj_crba_f = us_per_call(t, [&] { mj_crb(mm, md); mj_factorM(mm, md); g_sink = md->qLD[0]; });
-        const double fd = us_per_call(t, [&] { mbx::sim::forward_dynamics(c.model, d); g_sink = d.qacc[0]; });
-        const double mj_fd = us_per_call(t, [&] { mj_forward(mm, md); g_sink = md->qacc[0]; });
-        std::printf("microseconds per call, 7-DoF chain (anchors: Pinocchio without code generation ~1 RNEA, ~3 ABA)\n");
-        std::printf("%-44s %8s | %-40s %8s %6s\n", "mbx", "us", "MuJoCo", "us", "ratio");
-        auto row = [](const char* a, double x, const char* b, double y) {
-            std::printf("%-44s %8.3f | %-40s %8.3f %6.2f\n", a, x, b, y, x / y);
-        };
-        row("inverse_dynamics (RNEA)", rnea, "mj_rne", mj_rnea);
-        row("update_kinematics + inverse_dynamics", rnea_k, "mj_kinematics+comPos+comVel+rne", mj_rnea_k);
-        row("mass_matrix (CRBA)", crba, "mj_crb", mj_crba);
-        row("mass_matrix (CRBA)", crba, "mj_crb + mj_factorM", mj_crba_f);
-        row("articulated_body (ABA, kinematics done)", aba, "mj_forward", mj_fd);
-        row("forward_dynamics (kinematics + ABA)", fd, "mj_forward", mj_fd);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_sim failed: %s\n", e.what());
         std::filesystem::remove_all(dir);

@@ -4,6 +4,7 @@
 // basis of J's null space (the motions the loops allow).
 #pragma once
 #include <Eigen/QR>
+#include <type_traits>
 
 #include "sim/spatial.h"
 
@@ -13,25 +14,49 @@ namespace mbx::sim {
 // particular solution of J x = b, the null space of J and its rank.
 template <class S> struct ClosureFactor {
     Eigen::ColPivHouseholderQR<MatXT<S>> qr;
-    MatXT<S> Q;  // nv x nv
+    MatXT<S> Q;  // nv x nv, formed only when the null space is asked for
     int rank = 0;
 
     // Relative threshold under which a row counts as redundant.
     void factor(const MatXT<S>& J, double tolerance = 1e-10) {
+        // A fixed step factors the same J twice (closing the velocities at
+        // the end of a step, then the next step's first evaluation at the
+        // same positions): the second time is skipped. Only for plain
+        // values: a Jet compares equal by its value alone.
+        if constexpr (std::is_arithmetic_v<S>) {
+            if (factored_ && tolerance == tolerance_ && J.rows() == J_.rows() && J.cols() == J_.cols() && J == J_) {
+                rank = int(qr.rank());
+                return;
+            }
+            J_ = J;
+        }
         qr.setThreshold(S(tolerance));
         qr.compute(J.transpose());
         rank = int(qr.rank());
-        Q = qr.householderQ();
+        factored_ = true, tolerance_ = tolerance, q_formed_ = false;
     }
     // Minimum-norm x with J x = b (least squares in the kept rows).
-    VecXT<S> particular(const VecXT<S>& b) const {
-        const VecXT<S> pb = qr.colsPermutation().transpose() * b;
-        VecXT<S> y = qr.matrixR().topLeftCorner(rank, rank).template triangularView<Eigen::Upper>().transpose().solve(
-            pb.head(rank));
-        return Q.leftCols(rank) * y;
+    const VecXT<S>& particular(const VecXT<S>& b) {
+        pb_.noalias() = qr.colsPermutation().transpose() * b;
+        x_.setZero(qr.rows());
+        x_.head(rank) = pb_.head(rank);
+        qr.matrixR().topLeftCorner(rank, rank).template triangularView<Eigen::Upper>().transpose().solveInPlace(
+            x_.head(rank));
+        // Q [y; 0] by the Householder reflectors, without forming Q.
+        x_.applyOnTheLeft(qr.householderQ());
+        return x_;
     }
     // Columns spanning the motions the closures allow.
-    auto null_space() const { return Q.rightCols(Q.cols() - rank); }
+    auto null_space() {
+        if (!q_formed_) Q = qr.householderQ(), q_formed_ = true;
+        return Q.rightCols(Q.cols() - rank);
+    }
+
+private:
+    MatXT<S> J_;  // the last J factored (plain scalars only)
+    VecXT<S> pb_, x_;
+    double tolerance_ = 0;
+    bool factored_ = false, q_formed_ = false;
 };
 
 }  // namespace mbx::sim

@@ -2,6 +2,7 @@
 // the algorithms need, sized once from a model so that stepping allocates
 // nothing. One data object per rollout; any number may share a model.
 #pragma once
+#include <Eigen/Cholesky>
 #include <memory>
 #include <vector>
 
@@ -57,6 +58,9 @@ template <class S> struct DataT {
     // Constrained solve workspaces.
     ClosureFactor<S> closure_factor;
     MatXT<S> reduced_mass;  // N^T M N
+    MatXT<S> mass_null;     // M N
+    VecXT<S> qacc_particular, reduced_rhs;
+    Eigen::LDLT<MatXT<S>> reduced_ldlt;
 
     // Per-dof workspaces (integrators: start state, stage sums).
     VecXT<S> tmp_v, tmp_v2;

@@ -13,6 +13,36 @@
 
 namespace mbx::sim {
 
+// S v for a joint's n velocity coordinates, and S^T f into n efforts, on
+// fixed-size columns (a dynamic-size product costs more than the arithmetic
+// for the 1-column subspaces of most joints).
+template <class S> Vec6T<S> subspace_motion(const SubspaceT<S>& s, const S* v, int n) {
+    Vec6T<S> r = Vec6T<S>::Zero();
+    for (int k = 0; k < n; ++k) r += s.col(k) * v[k];
+    return r;
+}
+template <class S> void subspace_force(const SubspaceT<S>& s, const Vec6T<S>& f, S* out, int n) {
+    for (int k = 0; k < n; ++k) out[k] = s.col(k).dot(f);
+}
+
+// X^T Ia X for X the motion transform from the parent to the child frame
+// (pose X of the child in the parent): an articulated inertia moved to the
+// parent frame, by 3x3 blocks (rotate, then shift the origin by p).
+template <class S> Mat6T<S> articulated_to_parent(const Mat6T<S>& Ia, const Transform<S>& X) {
+    const Mat3T<S> A = X.R * Ia.template topLeftCorner<3, 3>() * X.R.transpose();
+    const Mat3T<S> B = X.R * Ia.template topRightCorner<3, 3>() * X.R.transpose();
+    const Mat3T<S> Cb = X.R * Ia.template bottomLeftCorner<3, 3>() * X.R.transpose();
+    const Mat3T<S> C = X.R * Ia.template bottomRightCorner<3, 3>() * X.R.transpose();
+    const Mat3T<S> px = skew<S>(X.p);
+    const Mat3T<S> top_right = B + px * C;
+    Mat6T<S> r;
+    r.template topLeftCorner<3, 3>() = A + px * Cb - top_right * px;
+    r.template topRightCorner<3, 3>() = top_right;
+    r.template bottomLeftCorner<3, 3>() = Cb - C * px;
+    r.template bottomRightCorner<3, 3>() = C;
+    return r;
+}
+
 // Body poses and each joint's motion subspace from data.q.
 template <class S> void update_positions(const ModelT<S>& m, DataT<S>& d) {
     d.x_world[0] = Transform<S>();
@@ -37,7 +67,7 @@ template <class S> void update_velocities(const ModelT<S>& m, DataT<S>& d) {
     d.vel[0].setZero();
     for (size_t b = 1; b < m.bodies.size(); ++b) {
         const JointT<S>& j = m.joints[b - 1];
-        const Vec6T<S> vj = d.subspace[b] * d.v.segment(j.v_index, j.nv());
+        const Vec6T<S> vj = subspace_motion<S>(d.subspace[b], d.v.data() + j.v_index, j.nv());
         d.vel[b] = d.x_parent[b].motion_to_child(d.vel[size_t(m.bodies[b].parent)]) + vj;
         Vec6T<S> c = cross_motion<S>(d.vel[b], vj);
         if (j.kind == JointKind::Free) {
@@ -65,14 +95,14 @@ void inverse_dynamics(const ModelT<S>& m, DataT<S>& d, const VecXT<S>& qacc, Vec
     for (size_t b = 1; b < nb; ++b) {
         const JointT<S>& j = m.joints[b - 1];
         d.acc[b] = d.x_parent[b].motion_to_child(d.acc[size_t(m.bodies[b].parent)]) +
-                   d.subspace[b] * qacc.segment(j.v_index, j.nv()) + d.bias_acc[b];
+                   subspace_motion<S>(d.subspace[b], qacc.data() + j.v_index, j.nv()) + d.bias_acc[b];
         const Inertia<S>& I = m.bodies[b].inertia;
         d.force[b] = I * d.acc[b] + cross_force<S>(d.vel[b], I * d.vel[b]);
     }
     tau.resize(m.nv);
     for (size_t b = nb - 1; b >= 1; --b) {
         const JointT<S>& j = m.joints[b - 1];
-        tau.segment(j.v_index, j.nv()) = d.subspace[b].transpose() * d.force[b];
+        subspace_force<S>(d.subspace[b], d.force[b], tau.data() + j.v_index, j.nv());
         if (j.nv() == 1) tau[j.v_index] += j.dynamics.armature * qacc[j.v_index];
         const int p = m.bodies[b].parent;
         if (p > 0) d.force[size_t(p)] += d.x_parent[b].force_to_parent(d.force[b]);
@@ -91,17 +121,21 @@ template <class S> void mass_matrix(const ModelT<S>& m, DataT<S>& d) {
     for (size_t b = 1; b < nb; ++b) {
         const JointT<S>& j = m.joints[b - 1];
         const int n = j.nv();
-        SubspaceT<S> F(6, n);
-        for (int k = 0; k < n; ++k) F.col(k) = d.composite[b] * Vec6T<S>(d.subspace[b].col(k));
-        d.M.block(j.v_index, j.v_index, n, n) = d.subspace[b].transpose() * F;
+        const SubspaceT<S>& s = d.subspace[b];
+        Mat6T<S> F;  // the columns of composite * S, carried up the chain as forces
+        for (int k = 0; k < n; ++k) F.col(k) = d.composite[b] * Vec6T<S>(s.col(k));
+        for (int k = 0; k < n; ++k)
+            for (int i = 0; i < n; ++i) d.M(j.v_index + i, j.v_index + k) = s.col(i).dot(F.col(k));
         if (n == 1) d.M(j.v_index, j.v_index) += j.dynamics.armature;
         size_t c = b;
         while (m.bodies[c].parent > 0) {
             for (int k = 0; k < n; ++k) F.col(k) = d.x_parent[c].force_to_parent(Vec6T<S>(F.col(k)));
             c = size_t(m.bodies[c].parent);
             const JointT<S>& jc = m.joints[c - 1];
-            d.M.block(jc.v_index, j.v_index, jc.nv(), n) = d.subspace[c].transpose() * F;
-            d.M.block(j.v_index, jc.v_index, n, jc.nv()) = d.M.block(jc.v_index, j.v_index, jc.nv(), n).transpose();
+            const SubspaceT<S>& sc = d.subspace[c];
+            for (int k = 0; k < n; ++k)
+                for (int i = 0; i < jc.nv(); ++i)
+                    d.M(j.v_index + k, jc.v_index + i) = d.M(jc.v_index + i, j.v_index + k) = sc.col(i).dot(F.col(k));
         }
     }
 }
@@ -128,30 +162,43 @@ template <class S> void articulated_body(const ModelT<S>& m, DataT<S>& d, const 
         const JointT<S>& j = m.joints[b - 1];
         const int n = j.nv();
         const SubspaceT<S>& s = d.subspace[b];
-        d.U[b].noalias() = d.articulated[b] * s;
-        Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> D = s.transpose() * d.U[b];
-        d.u[b] = tau.segment(j.v_index, n) - s.transpose() * d.bias_force[b];
-        if (n == 0) {
-            // A weld: the body rides on its parent.
-        } else if (n == 1) {
-            D(0, 0) += j.dynamics.armature;
-            if (!(abs(D(0, 0)) > m.undetermined_inertia(j.kind))) throw UndeterminedJoint{int(b - 1)};
-            d.D_inv[b](0, 0) = S(1) / D(0, 0);
-        } else {
-            Eigen::LLT<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(D);
-            using std::sqrt;
-            if (llt.info() != Eigen::Success ||
-                !(abs(llt.matrixLLT().diagonal().minCoeff()) > sqrt(m.undetermined_inertia(JointKind::Revolute))))
-                throw UndeterminedJoint{int(b - 1)};
-            d.D_inv[b] = llt.solve(Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Identity(n, n));
-        }
         const int p = m.bodies[b].parent;
-        if (p == 0) continue;
-        const SubspaceT<S> UD = d.U[b] * d.D_inv[b];
-        const Mat6T<S> Ia = d.articulated[b] - UD * d.U[b].transpose();
-        const Vec6T<S> pa = d.bias_force[b] + Ia * d.bias_acc[b] + UD * d.u[b];
-        const Mat6T<S> X = d.x_parent[b].motion_matrix_to_child();
-        d.articulated[size_t(p)].noalias() += X.transpose() * Ia * X;
+        Mat6T<S> Ia;
+        Vec6T<S> pa;
+        if (n == 1) {
+            // One coordinate (most joints): D and u are scalars, Ia a rank-1 update.
+            const Vec6T<S> sc = s.col(0);
+            const Vec6T<S> U = d.articulated[b] * sc;
+            const S D = sc.dot(U) + j.dynamics.armature;
+            if (!(abs(D) > m.undetermined_inertia(j.kind))) throw UndeterminedJoint{int(b - 1)};
+            const S D_inv = S(1) / D;
+            const S u = tau[j.v_index] - sc.dot(d.bias_force[b]);
+            d.U[b].col(0) = U;
+            d.D_inv[b](0, 0) = D_inv;
+            d.u[b](0) = u;
+            if (p == 0) continue;
+            const Vec6T<S> UD = U * D_inv;
+            Ia = d.articulated[b] - UD * U.transpose();
+            pa = d.bias_force[b] + Ia * d.bias_acc[b] + UD * u;
+        } else {
+            d.U[b].noalias() = d.articulated[b] * s;
+            Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> D = s.transpose() * d.U[b];
+            d.u[b] = tau.segment(j.v_index, n) - s.transpose() * d.bias_force[b];
+            if (n > 1) {
+                Eigen::LLT<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> llt(D);
+                using std::sqrt;
+                if (llt.info() != Eigen::Success ||
+                    !(abs(llt.matrixLLT().diagonal().minCoeff()) > sqrt(m.undetermined_inertia(JointKind::Revolute))))
+                    throw UndeterminedJoint{int(b - 1)};
+                d.D_inv[b] = llt.solve(Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>::Identity(n, n));
+            }
+            // n == 0: a weld, the body rides on its parent.
+            if (p == 0) continue;
+            const SubspaceT<S> UD = d.U[b] * d.D_inv[b];
+            Ia = d.articulated[b] - UD * d.U[b].transpose();
+            pa = d.bias_force[b] + Ia * d.bias_acc[b] + UD * d.u[b];
+        }
+        d.articulated[size_t(p)] += articulated_to_parent<S>(Ia, d.x_parent[b]);
         d.bias_force[size_t(p)] += d.x_parent[b].force_to_parent(pa);
     }
     qacc.resize(m.nv);
@@ -160,9 +207,15 @@ template <class S> void articulated_body(const ModelT<S>& m, DataT<S>& d, const 
     for (size_t b = 1; b < nb; ++b) {
         const JointT<S>& j = m.joints[b - 1];
         const Vec6T<S> a = d.x_parent[b].motion_to_child(d.acc[size_t(m.bodies[b].parent)]) + d.bias_acc[b];
+        if (j.nv() == 1) {
+            const S qa = d.D_inv[b](0, 0) * (d.u[b](0) - d.U[b].col(0).dot(a));
+            qacc[j.v_index] = qa;
+            d.acc[b] = a + d.subspace[b].col(0) * qa;
+            continue;
+        }
         auto qa = qacc.segment(j.v_index, j.nv());
         qa = d.D_inv[b] * (d.u[b] - d.U[b].transpose() * a);
-        d.acc[b] = a + d.subspace[b] * qa;
+        d.acc[b] = a + subspace_motion<S>(d.subspace[b], qa.data(), j.nv());
     }
 }
 

@@ -58,11 +58,15 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
     // Off the manifold (RK4 stages) redundant closure rows gain tiny singular
     // values; counting them would blow the particular solution up.
     if (m.closure_rank >= 0) f.rank = std::min(f.rank, m.closure_rank + int(J->rows() - d.J.rows()));
-    const VecXT<S> particular = f.particular(*gamma);
+    d.qacc_particular = f.particular(*gamma);
     const auto N = f.null_space();
-    d.reduced_mass.noalias() = N.transpose() * d.M * N;
-    const VecXT<S> rhs = N.transpose() * (d.qfrc_total - d.bias - d.M * particular);
-    Eigen::LDLT<MatXT<S>> ldlt(d.reduced_mass);
+    d.mass_null.noalias() = d.M * N;
+    d.reduced_mass.noalias() = N.transpose() * d.mass_null;
+    d.tmp_v2 = d.qfrc_total - d.bias;
+    d.tmp_v2.noalias() -= d.M * d.qacc_particular;
+    d.reduced_rhs.noalias() = N.transpose() * d.tmp_v2;
+    Eigen::LDLT<MatXT<S>>& ldlt = d.reduced_ldlt;
+    ldlt.compute(d.reduced_mass);
     using std::abs;
     S scale = S(0);
     for (int k = 0; k < m.nv; ++k) scale = std::max(scale, abs(d.M(k, k)));
@@ -82,7 +86,9 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
             if (std::fabs(dir[k]) > std::fabs(dir[dof])) dof = k;
         throw_undetermined(m, m.dof_joint[size_t(dof)]);
     }
-    d.qacc = particular + N * ldlt.solve(rhs);
+    ldlt.solveInPlace(d.reduced_rhs);
+    d.qacc = d.qacc_particular;
+    d.qacc.noalias() += N * d.reduced_rhs;
 }
 
 }  // namespace mbx::sim
