@@ -212,6 +212,7 @@ Model build_model(const Mechanism& m, const BuildOptions& options) {
         model.closure_rank = data.closure_factor.rank;
     }
     for (JointT<double>& j : model.joints) {
+        if (j.nv() == 1) j.reference_inertia = data.M(j.v_index, j.v_index);
         JointDynamics& jd = j.dynamics;
         if (!jd.limited || (jd.limit_stiffness > 0 && jd.limit_damping > 0)) continue;
         double inertia = data.M(j.v_index, j.v_index);

@@ -24,8 +24,8 @@ bool parse_integrator(const std::string& word, IntegratorKind& out) {
     return false;
 }
 
-void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck) {
-    passive_forces(m, d, law, stuck);
+void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck, double step) {
+    passive_forces(m, d, law, stuck, step);
     drive_forces(m, d);
     d.qfrc_total = d.effort + d.qfrc_passive + d.qfrc_drive;
     forward_dynamics(m, d);
@@ -68,7 +68,7 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
     };
     if (settings.kind == IntegratorKind::Euler) {
         // Semi-implicit: the new velocity moves the positions (MuJoCo's Euler).
-        evaluate(m, d, law);
+        evaluate(m, d, law, nullptr, h);
         d.v += h * d.qacc;
         for (const JointT<double>& j : m.joints) integrate_joint<double>(j.kind, d.q.data() + j.q_index, d.v.data() + j.v_index, h);
     } else {
@@ -84,7 +84,7 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
                 d.v_stage = d.v_start + (c[s] * h) * d.qacc;
                 d.v = d.v_stage;
             }
-            evaluate(m, d, law);
+            evaluate(m, d, law, nullptr, h);
             d.v_sum += w[s] * d.v_stage;
             d.a_sum += w[s] * d.qacc;
         }

@@ -26,8 +26,9 @@ struct IntegratorSettings {
 
 // Derivative of the state at (data.q, data.v, data.time): passive joint
 // forces, drive efforts from the held controller outputs, external efforts,
-// then forward dynamics into data.qacc.
-void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck = nullptr);
+// then forward dynamics into data.qacc. `step`: the fixed step the
+// regularised friction must stay stable at (0: none).
+void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck = nullptr, double step = 0);
 
 // One fixed step of `settings.step` with Euler or RK4, controllers sampled
 // at its start, loops closed at its end. Throws mbx::Error for a state that

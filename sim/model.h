@@ -63,6 +63,9 @@ template <class S> struct JointT {
     Vec3T<S> axis = Vec3T<S>::UnitZ();  // joint frame
     SubspaceT<S> subspace;     // motion subspace in child body coordinates (free: filled per state)
     JointDynamicsT<S> dynamics;
+    // The joint's diagonal of the mass matrix at the CAD pose, armature
+    // included (1-dof joints): the inertia limits and friction are sized by.
+    S reference_inertia = S(0);
 
     template <class T> JointT<T> cast() const {
         JointT<T> r;
@@ -73,6 +76,7 @@ template <class S> struct JointT {
         r.axis = axis.template cast<T>();
         r.subspace = subspace.template cast<T>();
         r.dynamics = dynamics.template cast<T>();
+        r.reference_inertia = T(reference_inertia);
         return r;
     }
     int nq() const { return position_size(kind); }

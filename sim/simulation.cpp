@@ -96,7 +96,7 @@ void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed
         const LoopClosureT<double>& c = m.closures[size_t(worst < 0 ? 0 : worst)];
         throw Error(MBX_ERROR_INVALID_INPUT, c.subject(),
                     "no loop closure satisfies the initial values: the loop closed by cut joint '" + c.name +
-                        "' stays open by " + number(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale));
+                        "' stays open by " + number(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale) + " m (or rad)");
     }
     update_positions(m, d);
     const double left = project_velocities(m, d, d.closure_factor, &v_fixed);
