@@ -1,8 +1,6 @@
 // `mbx simulate`: options, the files a run writes (checked against closed
 // forms), and that every refusal exits non-zero with a message and writes
 // nothing.
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,24 +11,12 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
+#include "cli_support.h"
 
 namespace {
 
-struct Run {
-    int code = -1;
-    std::string out, err;
-};
-
-Run run_cli(const atest::TempDir& dir, const std::string& arguments) {
-    const std::string command = std::string("'") + MBX_CLI_PATH + "' " + arguments + " >'" + dir.file("stdout") +
-                                "' 2>'" + dir.file("stderr") + "'";
-    const int status = std::system(command.c_str());
-    Run r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = atest::read_file(dir.file("stdout"));
-    r.err = atest::read_file(dir.file("stderr"));
-    return r;
-}
+using Run = atest::CliRun;
+using atest::run_cli;
 
 struct Csv {
     std::vector<std::string> columns;

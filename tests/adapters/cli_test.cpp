@@ -1,7 +1,5 @@
 // `mbx translate` with XML inputs: the exit codes, the error line, and that a
 // failure writes nothing.
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -9,26 +7,14 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
+#include "cli_support.h"
 #include "stl_text.h"
 #include "tiny_pmxml.h"
 
 namespace {
 
-struct Run {
-    int code = -1;
-    std::string out, err;
-};
-
-Run run_cli(const atest::TempDir& dir, const std::string& arguments) {
-    const std::string command = std::string("'") + MBX_CLI_PATH + "' " + arguments + " >'" + dir.file("stdout") +
-                                "' 2>'" + dir.file("stderr") + "'";
-    const int status = std::system(command.c_str());
-    Run r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = atest::read_file(dir.file("stdout"));
-    r.err = atest::read_file(dir.file("stderr"));
-    return r;
-}
+using Run = atest::CliRun;
+using atest::run_cli;
 
 }  // namespace
 

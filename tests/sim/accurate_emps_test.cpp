@@ -11,45 +11,13 @@
 #include <fstream>
 
 #include "drives_support.h"
+#include "emps_record.h"
 #include "export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 
 using namespace mbx;
 
-namespace {
-
-struct Record {
-    std::vector<double> t, q_ref, q, force;
-};
-
-Record read_record(const std::string& path) {
-    std::ifstream in(path);
-    REQUIRE(in);
-    std::string line;
-    std::getline(in, line);  // t, q_ref, q, u, force
-    Record r;
-    while (std::getline(in, line)) {
-        double v[5];
-        const char* p = line.data();
-        const char* end = p + line.size();
-        for (double& x : v) {
-            const auto res = std::from_chars(p, end, x);
-            REQUIRE(res.ec == std::errc());
-            p = res.ptr < end ? res.ptr + 1 : end;
-        }
-        r.t.push_back(v[0]), r.q_ref.push_back(v[1]), r.q.push_back(v[2]), r.force.push_back(v[4]);
-    }
-    return r;
-}
-
-double percent_error(const std::vector<double>& y, const std::vector<double>& y_hat) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < y.size(); ++i) num += (y[i] - y_hat[i]) * (y[i] - y_hat[i]), den += y[i] * y[i];
-    return 100 * std::sqrt(num / den);
-}
-
-}  // namespace
 
 TEST_CASE("sim accurate: the EMPS axis with stick/slip friction reproduces the rig's force") {
     auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml");
@@ -58,7 +26,7 @@ TEST_CASE("sim accurate: the EMPS axis with stick/slip friction reproduces the r
         xtest::resolve_drive_file(m, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
     REQUIRE(drives.size() == 1);
     REQUIRE(drives[0].spec.controller.sample_period == doctest::Approx(1e-3));
-    const Record rec = read_record(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
+    const mbx_test::EmpsRecord rec = mbx_test::read_emps(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
     REQUIRE(rec.t.size() == 24841);
 
     sim::BuildOptions options;
@@ -87,7 +55,7 @@ TEST_CASE("sim accurate: the EMPS axis with stick/slip friction reproduces the r
         sim::accurate_advance(rig, d, is, r);
         force_sim.push_back(d.drives.signals[0].effort);
     }
-    const double position = percent_error(rec.q, q_sim), force = percent_error(rec.force, force_sim);
+    const double position = mbx_test::relative_error(rec.q, q_sim), force = mbx_test::relative_error(rec.force, force_sim);
     INFO("position " << position << " %, force " << force << " %");
     CHECK(position < 0.05);
     CHECK(force < 7.5);

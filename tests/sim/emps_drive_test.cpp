@@ -10,43 +10,17 @@
 #include <fstream>
 
 #include "drives_support.h"
+#include "emps_record.h"
 #include "export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/integrator.h"
 
 using namespace mbx;
+using mbx_test::EmpsRecord;
+using mbx_test::read_emps;
+using mbx_test::relative_error;
 
 namespace {
-
-struct EmpsRecord {
-    std::vector<double> t, q_ref, q, u, force;
-};
-
-EmpsRecord read_emps(const std::string& path) {
-    std::ifstream in(path);
-    REQUIRE(in);
-    std::string line;
-    std::getline(in, line);  // header: t, q_ref, q, u, force
-    EmpsRecord r;
-    while (std::getline(in, line)) {
-        double v[5];
-        const char* p = line.data();
-        const char* end = p + line.size();
-        for (double& x : v) {
-            const auto res = std::from_chars(p, end, x);
-            REQUIRE(res.ec == std::errc());
-            p = res.ptr < end ? res.ptr + 1 : end;
-        }
-        r.t.push_back(v[0]), r.q_ref.push_back(v[1]), r.q.push_back(v[2]), r.u.push_back(v[3]), r.force.push_back(v[4]);
-    }
-    return r;
-}
-
-double relative_error(const std::vector<double>& y, const std::vector<double>& y_hat) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < y.size(); ++i) num += (y[i] - y_hat[i]) * (y[i] - y_hat[i]), den += y[i] * y[i];
-    return 100 * std::sqrt(num / den);
-}
 
 struct Result {
     double position_error = 0, force_error = 0;  // percent

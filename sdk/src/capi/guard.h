@@ -25,6 +25,16 @@ mbx_status guarded(mbx_context* context, Body&& body) {
     }
 }
 
+// The raw value of a C enum field: a C host may store any int there, and
+// reading it as the enum type would be undefined for values outside it.
+template <class E>
+int raw_enum(const E& e) {
+    int raw = 0;
+    static_assert(sizeof raw == sizeof e, "C enums are int-sized");
+    std::memcpy(&raw, &e, sizeof raw);
+    return raw;
+}
+
 // Copies a fully filled SDK-side struct into the caller's, which may be an
 // older, smaller version: only the bytes it declared are written.
 template <class T>

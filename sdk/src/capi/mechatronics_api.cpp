@@ -60,14 +60,6 @@ DriveSpec* find_drive(MechatronicSpec& spec, const std::string& constraint_id, i
 
 bool valid_enum(int value, int last) { return value >= 0 && value <= last; }
 
-template <class E>
-int raw_enum(const E& e) {
-    int raw = 0;
-    static_assert(sizeof raw == sizeof e, "C enums are int-sized");
-    std::memcpy(&raw, &e, sizeof raw);
-    return raw;
-}
-
 }  // namespace
 
 extern "C" {

@@ -14,14 +14,6 @@ using namespace mbx::sim;
 
 namespace {
 
-template <class E>
-int raw_enum(const E& e) {
-    int raw = 0;
-    static_assert(sizeof raw == sizeof e, "C enums are int-sized");
-    std::memcpy(&raw, &e, sizeof raw);
-    return raw;
-}
-
 [[noreturn]] void bad_argument(const std::string& what) {
     throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{}, what);
 }
