@@ -25,6 +25,15 @@ typedef char check_drive_info_first[(offsetof(mbx_drive_info, struct_size) == 0)
 typedef char check_motion_point[(sizeof(mbx_motion_point) == 2 * sizeof(double)) ? 1 : -1];
 typedef char check_api_grows[(offsetof(mbx_api, mechanism_drive_target) > offsetof(mbx_api, mechanism_export)) ? 1 : -1];
 
+/* ABI 6: the simulation structs keep struct_size first; fixed values are
+ * fixed-layout array elements without one. */
+typedef char check_abi_6[(MBX_ABI_VERSION >= 6u) ? 1 : -1];
+typedef char check_sim_options_first[(offsetof(mbx_sim_options, struct_size) == 0) ? 1 : -1];
+typedef char check_sim_joint_first[(offsetof(mbx_sim_joint_info, struct_size) == 0) ? 1 : -1];
+typedef char check_joint_dynamics_first[(offsetof(mbx_joint_dynamics_desc, struct_size) == 0) ? 1 : -1];
+typedef char check_fixed_value_layout[(offsetof(mbx_sim_fixed_value, value) == 3 * sizeof(uint32_t) + 4) ? 1 : -1];
+typedef char check_api_grows_6[(offsetof(mbx_api, sim_run) > offsetof(mbx_api, mechanism_drive_target)) ? 1 : -1];
+
 /* A one-motor library, as a C host might hold it in memory. */
 static const char *const k_library =
     "<object_library version=\"1\"><object_folder name=\"Motors\">"
@@ -121,6 +130,64 @@ static int check_mechatronics(const mbx_api *api, mbx_context *context) {
     return failures;
 }
 
+/* The simulation entry points from C: refusals that need no mechanism. */
+static int check_simulation(const mbx_api *api, mbx_context *context) {
+    mbx_sim_model *model = NULL;
+    mbx_sim_data *data = NULL;
+    mbx_sim_options options;
+    mbx_sim_stats stats;
+    mbx_joint_dynamics_desc dynamics;
+    mbx_mechatronics *mechatronics = NULL;
+    int failures = 0;
+
+    if (api->abi_version < 6u || api->struct_size < offsetof(mbx_api, mechatronics_set_joint_dynamics) + sizeof(void *)) {
+        fprintf(stderr, "the API table has no ABI 6 entries\n");
+        return 1;
+    }
+    memset(&options, 0, sizeof options);
+    options.struct_size = sizeof options;
+    options.integrator = MBX_INTEGRATOR_ACCURATE;
+    if (api->sim_model_create(context, NULL, &options, &model) != MBX_ERROR_INVALID_ARGUMENT || model) {
+        fprintf(stderr, "a NULL mechanism was not refused\n");
+        ++failures;
+    }
+    if (api->sim_data_create(context, NULL, &data) != MBX_ERROR_INVALID_ARGUMENT || data) {
+        fprintf(stderr, "a NULL model was not refused\n");
+        ++failures;
+    }
+    memset(&stats, 0, sizeof stats);
+    stats.struct_size = sizeof stats;
+    if (api->sim_get_stats(NULL, &stats) != MBX_ERROR_INVALID_ARGUMENT ||
+        api->sim_step(context, NULL, 1) != MBX_ERROR_INVALID_ARGUMENT) {
+        fprintf(stderr, "NULL data was not refused\n");
+        ++failures;
+    }
+    if (strcmp(api->status_name(MBX_ERROR_SIMULATION), "MBX_ERROR_SIMULATION") != 0) {
+        fprintf(stderr, "MBX_ERROR_SIMULATION has no name\n");
+        ++failures;
+    }
+    if (api->mechatronics_create(context, &mechatronics) != MBX_OK) return failures + 1;
+    memset(&dynamics, 0, sizeof dynamics);
+    dynamics.struct_size = sizeof dynamics;
+    dynamics.constraint_id = "J";
+    dynamics.primitive_index = -1;
+    dynamics.damping = 0.5;
+    dynamics.limited = 1;
+    dynamics.lower = 1.0;
+    dynamics.upper = -1.0;
+    if (api->mechatronics_set_joint_dynamics(context, mechatronics, &dynamics) != MBX_ERROR_INVALID_INPUT) {
+        fprintf(stderr, "limits with lower > upper were accepted\n");
+        ++failures;
+    }
+    dynamics.upper = 2.0;
+    if (api->mechatronics_set_joint_dynamics(context, mechatronics, &dynamics) != MBX_OK) {
+        fprintf(stderr, "set_joint_dynamics: %s\n", api->context_last_error(context));
+        ++failures;
+    }
+    api->mechatronics_destroy(mechatronics);
+    return failures;
+}
+
 static int count_bodies(void *user_data, size_t *out_count) {
     (void)user_data;
     *out_count = 0;
@@ -191,7 +258,7 @@ int main(int argc, char **argv) {
         api->context_destroy(context);
         return 1;
     }
-    if (check_mechatronics(api, context) != 0) {
+    if (check_mechatronics(api, context) != 0 || check_simulation(api, context) != 0) {
         api->context_destroy(context);
         return 1;
     }
