@@ -26,19 +26,25 @@ template <class S> void subspace_force(const SubspaceT<S>& s, const Vec6T<S>& f,
 }
 
 // X^T Ia X for X the motion transform from the parent to the child frame
-// (pose X of the child in the parent): an articulated inertia moved to the
-// parent frame, by 3x3 blocks (rotate, then shift the origin by p).
+// (pose X of the child in the parent): a (symmetric) articulated inertia
+// moved to the parent frame by 3x3 blocks, rotated, then its origin shifted by p.
 template <class S> Mat6T<S> articulated_to_parent(const Mat6T<S>& Ia, const Transform<S>& X) {
-    const Mat3T<S> A = X.R * Ia.template topLeftCorner<3, 3>() * X.R.transpose();
-    const Mat3T<S> B = X.R * Ia.template topRightCorner<3, 3>() * X.R.transpose();
-    const Mat3T<S> Cb = X.R * Ia.template bottomLeftCorner<3, 3>() * X.R.transpose();
-    const Mat3T<S> C = X.R * Ia.template bottomRightCorner<3, 3>() * X.R.transpose();
+    // R M R^T as two fixed-size lazy products (the nested product expression
+    // went through Eigen's generic kernel).
+    const Mat3T<S> Rt = X.R.transpose();
+    auto rotate = [&](const Mat3T<S>& M) -> Mat3T<S> {
+        const Mat3T<S> RM = X.R.lazyProduct(M);
+        return RM.lazyProduct(Rt);
+    };
+    const Mat3T<S> A = rotate(Ia.template topLeftCorner<3, 3>());
+    const Mat3T<S> B = rotate(Ia.template topRightCorner<3, 3>());
+    const Mat3T<S> C = rotate(Ia.template bottomRightCorner<3, 3>());
     const Mat3T<S> px = skew<S>(X.p);
     const Mat3T<S> top_right = B + px * C;
     Mat6T<S> r;
-    r.template topLeftCorner<3, 3>() = A + px * Cb - top_right * px;
+    r.template topLeftCorner<3, 3>() = A + px * B.transpose() - top_right * px;
     r.template topRightCorner<3, 3>() = top_right;
-    r.template bottomLeftCorner<3, 3>() = Cb - C * px;
+    r.template bottomLeftCorner<3, 3>() = top_right.transpose();
     r.template bottomRightCorner<3, 3>() = C;
     return r;
 }

@@ -151,7 +151,8 @@ template <class S> struct Inertia {
         r.h = hr + mass * X.p;
         // I_A = R I R^T - [p]x [R h]x - [R h + m p]x [p]x  (parallel axis for a shifted origin)
         const Mat3T<S> px = skew<S>(X.p);
-        r.I = X.R * I * X.R.transpose() - px * skew<S>(hr) - skew<S>(r.h) * px;
+        const Mat3T<S> RI = X.R.lazyProduct(I);  // fixed-size lazy products: no generic kernel
+        r.I = RI.lazyProduct(X.R.transpose()) - px.lazyProduct(skew<S>(hr)) - skew<S>(r.h).lazyProduct(px);
         return r;
     }
     Inertia& operator+=(const Inertia& o) {
