@@ -128,6 +128,19 @@ template <class S> void mass_matrix(const ModelT<S>& m, DataT<S>& d) {
         const JointT<S>& j = m.joints[b - 1];
         const int n = j.nv();
         const SubspaceT<S>& s = d.subspace[b];
+        if (n == 1) {
+            // One column (most joints): carried up the chain as one force.
+            Vec6T<S> f = d.composite[b] * Vec6T<S>(s.col(0));
+            d.M(j.v_index, j.v_index) = s.col(0).dot(f) + j.dynamics.armature;
+            for (size_t c = b; m.bodies[c].parent > 0;) {
+                f = d.x_parent[c].force_to_parent(f);
+                c = size_t(m.bodies[c].parent);
+                const JointT<S>& jc = m.joints[c - 1];
+                for (int i = 0; i < jc.nv(); ++i)
+                    d.M(j.v_index, jc.v_index + i) = d.M(jc.v_index + i, j.v_index) = d.subspace[c].col(i).dot(f);
+            }
+            continue;
+        }
         Mat6T<S> F;  // the columns of composite * S, carried up the chain as forces
         for (int k = 0; k < n; ++k) F.col(k) = d.composite[b] * Vec6T<S>(s.col(k));
         for (int k = 0; k < n; ++k)
