@@ -14,7 +14,6 @@ namespace mbx::sim {
 // particular solution of J x = b, the null space of J and its rank.
 template <class S> struct ClosureFactor {
     Eigen::ColPivHouseholderQR<MatXT<S>> qr;
-    MatXT<S> Q;  // nv x nv, formed only when the null space is asked for
     int rank = 0;
 
     // Relative threshold under which a row counts as redundant.
@@ -46,15 +45,24 @@ template <class S> struct ClosureFactor {
         x_.applyOnTheLeft(qr.householderQ());
         return x_;
     }
-    // Columns spanning the motions the closures allow.
-    auto null_space() {
-        if (!q_formed_) Q = qr.householderQ(), q_formed_ = true;
-        return Q.rightCols(Q.cols() - rank);
+    // Columns spanning the motions the closures allow: the last columns of
+    // Q, formed alone (a loop leaves few motions) and kept for the same J and rank.
+    const MatXT<S>& null_space() {
+        const Eigen::Index n = qr.rows(), free = n - rank;
+        if (!(q_formed_ && null_rank_ == rank)) {
+            null_.setZero(n, free);
+            null_.bottomRows(free).setIdentity();
+            null_.applyOnTheLeft(qr.householderQ());
+            q_formed_ = true, null_rank_ = rank;
+        }
+        return null_;
     }
 
 private:
     MatXT<S> J_;  // the last J factored (plain scalars only)
     VecXT<S> pb_, x_;
+    MatXT<S> null_;
+    int null_rank_ = -1;
     double tolerance_ = 0;
     bool factored_ = false, q_formed_ = false;
 };

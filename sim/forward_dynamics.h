@@ -59,7 +59,7 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
     // values; counting them would blow the particular solution up.
     if (m.closure_rank >= 0) f.rank = std::min(f.rank, m.closure_rank + int(J->rows() - d.J.rows()));
     d.qacc_particular = f.particular(*gamma);
-    const auto N = f.null_space();
+    const MatXT<S>& N = f.null_space();
     d.mass_null.noalias() = d.M * N;
     d.reduced_mass.noalias() = N.transpose() * d.mass_null;
     d.tmp_v2 = d.qfrc_total - d.bias;
@@ -78,7 +78,7 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
         // largest share in the reduced mass matrix's weakest eigenvector.
         // (On plain values: the eigen-solver needs a real scalar type.)
         const Eigen::MatrixXd reduced = d.reduced_mass.unaryExpr([](const S& x) { return value_of(x); });
-        const Eigen::MatrixXd basis = MatXT<S>(N).unaryExpr([](const S& x) { return value_of(x); });
+        const Eigen::MatrixXd basis = N.unaryExpr([](const S& x) { return value_of(x); });
         Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(reduced);
         const Eigen::VectorXd dir = basis * eig.eigenvectors().col(0);
         int dof = 0;
