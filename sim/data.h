@@ -12,6 +12,16 @@
 
 namespace mbx::sim {
 
+// A factorisation kept in a data object for its allocations only. Copying a
+// data object (a rollout forked from another, a trial state) gives the copy
+// a fresh one: it holds no state the next solve does not recompute, and
+// Eigen's decompositions copy members they leave uninitialised until used.
+template <class T> struct Fresh : T {
+    Fresh() = default;
+    Fresh(const Fresh&) : T() {}
+    Fresh& operator=(const Fresh&) { return *this; }
+};
+
 struct RunStats {
     long long steps = 0;
     long long evaluations = 0;     // forward dynamics calls
@@ -56,11 +66,11 @@ template <class S> struct DataT {
     VecXT<S> gamma;     // -Jdot v
 
     // Constrained solve workspaces.
-    ClosureFactor<S> closure_factor;
+    Fresh<ClosureFactor<S>> closure_factor;
     MatXT<S> reduced_mass;  // N^T M N
     MatXT<S> mass_null;     // M N
     VecXT<S> qacc_particular, reduced_rhs;
-    Eigen::LDLT<MatXT<S>> reduced_ldlt;
+    Fresh<Eigen::LDLT<MatXT<S>>> reduced_ldlt;
 
     // Per-dof workspaces (integrators: start state, stage sums).
     VecXT<S> tmp_v, tmp_v2;
