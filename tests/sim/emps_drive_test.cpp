@@ -87,6 +87,9 @@ TEST_CASE("sim: the EMPS axis in mbx's simulator reproduces the rig's closed loo
     const Result r_without = closed_loop(bare, rec, 0);
     INFO("without friction: position " << r_without.position_error << " %, force " << r_without.force_error << " %");
     CHECK(r_without.position_error < 0.5);
-    CHECK(r_without.force_error > 50);  // ~70 %: friction is what the CAD model misses
+    // Friction is what the CAD model misses: 69.9 %, as MuJoCo on the same
+    // export (tests/export/drives_emps_test.cpp) gives to three digits.
+    CHECK(r_without.force_error > 65);
+    CHECK(r_without.force_error < 75);
     CHECK(r_without.force_error > 3 * r_with.force_error);
 }
