@@ -13,44 +13,20 @@
 
 #include "export_fixture.h"
 #include "file_text.h"
+#include "test_inputs.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Input {
-    std::string label;
-    std::function<std::unique_ptr<xtest::Translated>()> open;
-};
+using simtest::Input;
 
+// Every built-in, sample and real export (the MJCF tests' small assemblies
+// have their own cases).
 std::vector<Input> all_inputs() {
-    std::vector<Input> in;
-    for (const std::string& name : mbx_stub::builtin_names())
-        in.push_back({"builtin " + name, [name] { return xtest::translate_builtin(name); }});
-    const std::string samples = MBX_SAMPLES_DIR;
-    for (const auto& [folder, xml] : std::vector<std::pair<std::string, std::string>>{
-             {"double_cardan", "double_cardan"},
-             {"five_axis_arm", "five_axis_arm"},
-             {"fourbar_imperial", "fourbar"},
-             {"joints_showcase", "joints_showcase"}}) {
-        const std::string dir = samples + "/" + folder;
-        in.push_back({"sample " + folder, [dir, xml] {
-                          mbx_files::FileAdapterOptions o;
-                          o.shapes_path = dir + "/" + xml + "_a.wrl";
-                          return xtest::translate_file(dir + "/" + xml + ".xml", o);
-                      }});
-    }
-    const std::string data = std::string(MBX_SHARED_DATA) + "/pmxml";
-    in.push_back({"ergoCub", [data] {
-                      mbx_files::FileAdapterOptions o;
-                      o.mesh_dirs.push_back(data + "/ergocub/meshes/simmechanics");
-                      return xtest::translate_file(data + "/ergocub/SIM_ERGOCUB_1-0.xml", o);
-                  }});
-    for (const char* f : {"/ironcub/IRONCUB-MK1_SIM_MODEL.xml", "/ironcub/IRONCUB-MK1_1_SIM_MODEL.xml",
-                          "/legs_mechanism_2014/LEGS_MECHANISM.xml", "/legs_mechanism_2015/LEGS_MECHANISM.xml"}) {
-        const std::string path = data + f;
-        in.push_back({path, [path] { return xtest::translate_file(path); }});
-    }
+    std::vector<Input> in = simtest::builtin_inputs();
+    for (auto* more : {&simtest::sample_inputs, &simtest::shared_pmxml_inputs})
+        for (Input& i : more()) in.push_back(std::move(i));
     return in;
 }
 

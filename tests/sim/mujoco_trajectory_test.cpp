@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "sim/simulation.h"
-#include "sim_inputs.h"
+#include "test_inputs.h"
 #include "sim_mujoco_support.h"
 
 using namespace mbx;

@@ -1,6 +1,7 @@
-// The mechanisms the simulator tests run on: mbx's built-ins, the bundled
-// samples (PMXML + VRML shapes), the real PMXML exports in ../shared and the
-// small assemblies of the MJCF tests, each translated by mbx's own pipeline.
+// The mechanisms the exporter and simulator tests run on: mbx's built-ins,
+// the bundled samples (PMXML + VRML shapes), the real PMXML exports in
+// ../shared and the small assemblies of the MJCF tests, each translated by
+// mbx's own pipeline.
 #pragma once
 #include <functional>
 #include <memory>
