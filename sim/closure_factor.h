@@ -32,10 +32,24 @@ template <class S> struct ClosureFactor {
         qr.setThreshold(S(tolerance));
         qr.compute(J.transpose());
         rank = int(qr.rank());
-        factored_ = true, tolerance_ = tolerance, q_formed_ = false;
+        factored_ = true, tolerance_ = tolerance, q_formed_ = false, p_formed_ = false, solves_ = 0;
     }
-    // Minimum-norm x with J x = b (least squares in the kept rows).
+    bool factored() const { return factored_; }
+    // Minimum-norm x with J x = b (least squares in the kept rows). A fixed
+    // step solves several right-hand sides with one factor (the velocities,
+    // the dynamics, the chord steps), so from the second solve on the
+    // solution's matrix is formed once per factor and rank and each solve
+    // is one small product; a lone solve (RK4 stages) goes by the reflectors.
     const VecXT<S>& particular(const VecXT<S>& b) {
+        if (p_formed_ && p_rank_ == rank) {
+            x_.noalias() = pinv_ * b;
+            return x_;
+        }
+        if (solves_++ > 0) {
+            form_pseudo_inverse();
+            x_.noalias() = pinv_ * b;
+            return x_;
+        }
         pb_.noalias() = qr.colsPermutation().transpose() * b;
         x_.setZero(qr.rows());
         x_.head(rank) = pb_.head(rank);
@@ -59,7 +73,26 @@ template <class S> struct ClosureFactor {
     }
 
 private:
+    // pinv_ = Q_r R_r^-T P_r^T: the first `rank` columns of Q, the leading
+    // triangle of R, and the rows the pivoting kept (the others get zero columns).
+    void form_pseudo_inverse() {
+        const Eigen::Index n = qr.rows(), rows = qr.cols();
+        null_.setZero(n, rank);  // scratch for Q_r (null_ is re-formed on demand)
+        null_.topRows(rank).setIdentity();
+        null_.applyOnTheLeft(qr.householderQ());
+        q_formed_ = false;
+        MatXT<S> At = null_.transpose();  // (R_r^-1 Q_r^T) = (Q_r R_r^-T)^T
+        qr.matrixR().topLeftCorner(rank, rank).template triangularView<Eigen::Upper>().solveInPlace(At);
+        pinv_.setZero(n, rows);
+        const auto& perm = qr.colsPermutation().indices();
+        for (int i = 0; i < rank; ++i) pinv_.col(perm[i]) = At.row(i).transpose();
+        p_formed_ = true, p_rank_ = rank;
+    }
+
     MatXT<S> J_;  // the last J factored (plain scalars only)
+    MatXT<S> pinv_;
+    int p_rank_ = -1, solves_ = 0;
+    bool p_formed_ = false;
     VecXT<S> pb_, x_;
     MatXT<S> null_;
     int null_rank_ = -1;

@@ -70,7 +70,13 @@ template <class S> struct DataT {
     MatXT<S> reduced_mass;  // N^T M N
     MatXT<S> mass_null;     // M N
     VecXT<S> qacc_particular, reduced_rhs;
+    VecXT<S> closure_step, closure_rhs;  // projections' workspaces
     Fresh<Eigen::LDLT<MatXT<S>>> reduced_ldlt;
+
+    // The positions at which a fixed step left body poses, subspaces, J and
+    // its factor after closing the loops (empty: none); the next step starts
+    // from them when data.q is still exactly these.
+    VecXT<S> q_closed;
 
     // Per-dof workspaces (integrators: start state, stage sums).
     VecXT<S> tmp_v, tmp_v2;

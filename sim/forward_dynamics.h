@@ -23,10 +23,15 @@ template <class S> [[noreturn]] void throw_undetermined(const ModelT<S>& m, int 
 // data.qacc under data.qfrc_total at (data.q, data.v). Updates kinematics.
 // `extra_rows`/`extra_bias`, when given, are further constraint rows
 // J_e qacc = b_e solved with the closures (the accurate mode's stuck joints).
+// `positions_ready`: body poses, subspaces and data.J are already those of
+// data.q (a fixed step starting where the last one closed its loops).
 template <class S>
 void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_rows = nullptr,
-                      const VecXT<S>* extra_bias = nullptr) {
-    update_kinematics(m, d);
+                      const VecXT<S>* extra_bias = nullptr, bool positions_ready = false) {
+    if (positions_ready)
+        update_velocities(m, d);
+    else
+        update_kinematics(m, d);
     const bool constrained = !m.closures.empty() || (extra_rows && extra_rows->rows() > 0);
     if (!constrained) {
         try {
@@ -39,7 +44,7 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
     mass_matrix(m, d);
     d.tmp_v.setZero(m.nv);
     inverse_dynamics(m, d, d.tmp_v, d.bias);  // C v + g
-    update_closure_jacobian(m, d);
+    if (!positions_ready) update_closure_jacobian(m, d);
     update_closure_bias(m, d);
     const MatXT<S>* J = &d.J;
     const VecXT<S>* gamma = &d.gamma;

@@ -24,11 +24,12 @@ bool parse_integrator(const std::string& word, IntegratorKind& out) {
     return false;
 }
 
-void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck, double step) {
+void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck, double step,
+              bool positions_ready) {
     passive_forces(m, d, law, stuck, step);
     drive_forces(m, d);
     d.qfrc_total = d.effort + d.qfrc_passive + d.qfrc_drive;
-    forward_dynamics(m, d);
+    forward_dynamics<double>(m, d, nullptr, nullptr, positions_ready);
     ++d.stats.evaluations;
 }
 
@@ -41,10 +42,10 @@ void check_finite_state(const Model& m, const Data& d, const char* when, mbx_sta
     }
 }
 
-double close_loops(const Model& m, Data& d, double tolerance) {
+double close_loops(const Model& m, Data& d, double tolerance, bool warm) {
     if (m.closures.empty()) return 0;
     const double scaled = tolerance / m.length_scale;
-    if (!project_positions(m, d, d.closure_factor, scaled)) {
+    if (!project_positions(m, d, d.closure_factor, scaled, 50, nullptr, warm)) {
         const int worst = worst_closure(m, d.residual);
         const LoopClosureT<double>& c = m.closures[size_t(worst < 0 ? 0 : worst)];
         throw Error(MBX_ERROR_INVALID_INPUT, c.subject(),
@@ -52,6 +53,7 @@ double close_loops(const Model& m, Data& d, double tolerance) {
                         std::to_string(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale) + ")");
     }
     project_velocities(m, d, d.closure_factor);
+    if (warm) d.q_closed = d.q;
     return d.residual.lpNorm<Eigen::Infinity>() * m.length_scale;
 }
 
@@ -62,15 +64,28 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
     const double h = settings.step;
     update_controllers(m, d, d.time);
     const FrictionLaw law = FrictionLaw::Regularised;
+    const bool positions_ready = d.q_closed.size() == d.q.size() && d.q_closed == d.q;
+    d.q_closed.resize(0);
     auto advance_from_start = [&](const Eigen::VectorXd& v, double dt) {
         d.q = d.q_start;
         for (const JointT<double>& j : m.joints) integrate_joint<double>(j.kind, d.q.data() + j.q_index, v.data() + j.v_index, dt);
     };
     if (settings.kind == IntegratorKind::Euler) {
         // Semi-implicit: the new velocity moves the positions (MuJoCo's Euler).
-        evaluate(m, d, law, nullptr, h);
+        evaluate(m, d, law, nullptr, h, positions_ready);
         d.v += h * d.qacc;
-        for (const JointT<double>& j : m.joints) integrate_joint<double>(j.kind, d.q.data() + j.q_index, d.v.data() + j.v_index, h);
+        if (!m.closures.empty()) {
+            // The step leaves the closures off by h^2/2 Jdot v = -h^2/2 gamma
+            // to second order; moving back by the minimum-norm J x = gamma
+            // (the dynamics' particular acceleration, at hand) leaves the
+            // chord steps of close_loops a third-order rest.
+            d.tmp_v2 = d.v;
+            d.tmp_v2.noalias() -= (0.5 * h) * d.qacc_particular;
+        } else {
+            d.tmp_v2 = d.v;
+        }
+        for (const JointT<double>& j : m.joints)
+            integrate_joint<double>(j.kind, d.q.data() + j.q_index, d.tmp_v2.data() + j.v_index, h);
     } else {
         // Classical RK4 on (q, v), positions moved on their manifold from the
         // step's start by each stage's velocity (as MuJoCo's RK4 does).
@@ -84,7 +99,7 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
                 d.v_stage = d.v_start + (c[s] * h) * d.qacc;
                 d.v = d.v_stage;
             }
-            evaluate(m, d, law, nullptr, h);
+            evaluate(m, d, law, nullptr, h, s == 0 && positions_ready);
             d.v_sum += w[s] * d.v_stage;
             d.a_sum += w[s] * d.qacc;
         }
@@ -95,7 +110,7 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
     ++stats.steps;
     if (!(d.q.allFinite() && d.v.allFinite()))
         check_finite_state(m, d, ("at t = " + std::to_string(d.time) + " s: the run diverged").c_str(), MBX_ERROR_SIMULATION);
-    stats.max_closure_residual = std::max(stats.max_closure_residual, close_loops(m, d, settings.closure_tolerance));
+    stats.max_closure_residual = std::max(stats.max_closure_residual, close_loops(m, d, settings.closure_tolerance, true));
 }
 
 }  // namespace

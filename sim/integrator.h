@@ -28,7 +28,8 @@ struct IntegratorSettings {
 // forces, drive efforts from the held controller outputs, external efforts,
 // then forward dynamics into data.qacc. `step`: the fixed step the
 // regularised friction must stay stable at (0: none).
-void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck = nullptr, double step = 0);
+void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck = nullptr, double step = 0,
+              bool positions_ready = false);
 
 // One fixed step of `settings.step` with Euler or RK4, controllers sampled
 // at its start, loops closed at its end. Throws mbx::Error for a state that
@@ -37,8 +38,12 @@ void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings);
 
 // Closes the loops at data.q and data.v (minimum-norm changes); throws
 // mbx::Error naming the loop if the positions cannot be brought back.
-// Returns the largest closure residual left (m or rad).
-double close_loops(const Model& m, Data& d, double tolerance);
+// Returns the largest closure residual left (m or rad). `warm` after a
+// step: the chord steps start from the factor of the step's last dynamics
+// evaluation (positions one step back, close enough to converge); the
+// velocities need the exact rows, whose factor the next step's first
+// evaluation then reuses, so a step costs one factorisation, not two.
+double close_loops(const Model& m, Data& d, double tolerance, bool warm = false);
 
 // Throws mbx::Error(status) naming the first joint with a non-finite coordinate.
 void check_finite_state(const Model& m, const Data& d, const char* when, mbx_status status = MBX_ERROR_INVALID_INPUT);

@@ -121,11 +121,15 @@ template <class S> int worst_closure(const ModelT<S>& m, const VecXT<S>& v) {
 // fast) until every closure holds within
 // `tolerance` (scaled residual, i.e. metres / model size and radians).
 // Returns false, leaving data.q at the last iterate, if it does not converge.
+// `warm`: f already holds a factor of the closure rows at nearby positions
+// (the step's last dynamics evaluation), good for the first chord steps.
 template <class S>
 bool project_positions(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, double tolerance, int max_iterations = 50,
-                       const std::vector<char>* fixed = nullptr) {
+                       const std::vector<char>* fixed = nullptr, bool warm = false) {
     if (m.closures.empty()) return true;
-    VecXT<S> step(m.nv), rhs(m.closure_rows);
+    warm = warm && f.factored();
+    VecXT<S>& step = d.closure_step;
+    VecXT<S>& rhs = d.closure_rhs;
     double previous = 0;
     for (int it = 0; it <= max_iterations; ++it) {
         update_positions(m, d);
@@ -136,7 +140,7 @@ bool project_positions(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, dou
         // A fixed step leaves a small residual that a step with the first
         // iterate's factor (a chord step) cuts as well as a fresh one; a new
         // factor only when the last step did not cut the residual tenfold.
-        if (it == 0 || !(norm < 0.1 * previous)) {
+        if ((it == 0 && !warm) || (it > 0 && !(norm < 0.1 * previous))) {
             update_closure_jacobian(m, d);
             if (fixed)
                 for (int k = 0; k < m.nv; ++k)
@@ -164,19 +168,21 @@ template <class S>
 S project_velocities(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, const std::vector<char>* fixed = nullptr) {
     if (m.closures.empty()) return S(0);
     update_closure_jacobian(m, d);
-    const VecXT<S> violation = d.J * d.v;
+    d.closure_rhs.noalias() = d.J * d.v;
     if (fixed)
         for (int k = 0; k < m.nv; ++k)
             if ((*fixed)[size_t(k)]) d.J.col(k).setZero();
     f.factor(d.J);
-    VecXT<S> change = f.particular(violation);
+    VecXT<S>& change = d.closure_step;
+    change = f.particular(d.closure_rhs);
     if (fixed)
         for (int k = 0; k < m.nv; ++k)
             if ((*fixed)[size_t(k)]) change[k] = S(0);
     d.v -= change;
     // Zeroed columns must come back for the check; otherwise J is still whole.
     if (fixed) update_closure_jacobian(m, d);
-    return (d.J * d.v).template lpNorm<Eigen::Infinity>();
+    d.closure_rhs.noalias() = d.J * d.v;
+    return d.closure_rhs.template lpNorm<Eigen::Infinity>();
 }
 
 }  // namespace mbx::sim
