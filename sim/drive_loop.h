@@ -34,7 +34,7 @@ inline void update_controllers(const ModelT<double>& m, DataT<double>& d, double
         const JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(m.drive_dof[k])])];
         const double target =
             std::isnan(loop.target_override[k]) ? drive.spec.motion.at(t).position : loop.target_override[k];
-        const double u = loop.controllers[k].update(t, target, d.q[j.q_index], d.v[j.v_index]);
+        const double u = loop.controllers[k].update(t, target, d.q[j.q_index], d.v[j.v_index]) + loop.output_add[k];
         loop.signals[k].target = target;
         loop.signals[k].output = u;
     }

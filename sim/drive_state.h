@@ -23,6 +23,9 @@ struct DriveLoop {
     // A target given from outside per drive (a recorded reference): NaN
     // means the drive's own motion profile.
     std::vector<double> target_override;
+    // A signal added to each controller's output after its limit and delay
+    // (an injected test signal, a recorded disturbance), in output units.
+    std::vector<double> output_add;
 
     DriveLoop() = default;
     explicit DriveLoop(const std::vector<Drive>& drives) {
@@ -34,6 +37,7 @@ struct DriveLoop {
         }
         signals.assign(drives.size(), {});
         target_override.assign(drives.size(), NAN);
+        output_add.assign(drives.size(), 0.0);
     }
     void reset() {
         for (DriveController& c : controllers) c.reset();

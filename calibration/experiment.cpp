@@ -1,0 +1,282 @@
+#include "calibration/experiment.h"
+
+#include <pugixml.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/finding.h"
+#include "mechatronics/xml_text.h"
+
+namespace mbx::calibration {
+
+const char* quantity_name(Quantity q) {
+    switch (q) {
+    case Quantity::Position: return "position";
+    case Quantity::Velocity: return "velocity";
+    case Quantity::Acceleration: return "acceleration";
+    case Quantity::Effort: return "effort";
+    case Quantity::Voltage: return "voltage";
+    case Quantity::Current: return "current";
+    case Quantity::Reference: return "reference";
+    case Quantity::ControllerInput: return "controller_input";
+    }
+    return "?";
+}
+
+const char* drive_mode_name(DriveMode m) {
+    switch (m) {
+    case DriveMode::ClosedLoop: return "closed_loop";
+    case DriveMode::Effort: return "effort";
+    case DriveMode::Free: return "free";
+    }
+    return "?";
+}
+
+namespace {
+
+bool parse_quantity(const std::string& word, Quantity& out) {
+    for (Quantity q : {Quantity::Position, Quantity::Velocity, Quantity::Acceleration, Quantity::Effort,
+                       Quantity::Voltage, Quantity::Current, Quantity::Reference, Quantity::ControllerInput})
+        if (word == quantity_name(q)) {
+            out = q;
+            return true;
+        }
+    return false;
+}
+
+// Angle and length units and their SI factors; rates and accelerations add
+// "/s" and "/s^2" to them.
+const std::map<std::string, double>& angle_units() {
+    static const std::map<std::string, double> u{{"rad", 1.0}, {"deg", M_PI / 180}};
+    return u;
+}
+const std::map<std::string, double>& length_units() {
+    static const std::map<std::string, double> u{{"m", 1.0}, {"mm", 1e-3}};
+    return u;
+}
+
+bool lookup(const std::map<std::string, double>& units, const std::string& unit, const std::string& suffix,
+            double& factor) {
+    for (const auto& [name, f] : units)
+        if (unit == name + suffix) {
+            factor = f;
+            return true;
+        }
+    return false;
+}
+
+}  // namespace
+
+bool unit_factor(Quantity q, const std::string& unit, bool linear, double& factor) {
+    const auto& pos = linear ? length_units() : angle_units();
+    switch (q) {
+    case Quantity::Position:
+    case Quantity::Reference: return lookup(pos, unit, "", factor);
+    case Quantity::Velocity: return lookup(pos, unit, "/s", factor);
+    case Quantity::Acceleration: return lookup(pos, unit, "/s^2", factor);
+    case Quantity::Effort:
+        factor = 1;
+        return linear ? unit == "N" : (unit == "N*m" || unit == "N m" || unit == "Nm");
+    case Quantity::Voltage:
+    case Quantity::ControllerInput: factor = 1; return unit == "V";
+    case Quantity::Current: factor = 1; return unit == "A";
+    }
+    return false;
+}
+
+namespace {
+
+class Parser {
+public:
+    Parser(const std::string& text, const std::string& path) : text_(text), lines_(text) { exp_.path = path; }
+
+    Experiment run() {
+        pugi::xml_document doc;
+        const pugi::xml_parse_result parsed = doc.load_buffer(text_.data(), text_.size(), pugi::parse_default);
+        if (!parsed) {
+            fail(lines_.line_at(parsed.offset), std::string("not well-formed XML: ") + parsed.description());
+            finish();
+        }
+        const pugi::xml_node root = doc.document_element();
+        if (std::string(root.name()) != "experiment") {
+            fail(lines_.line(root), "the root element must be <experiment>");
+            finish();
+        }
+        attributes(root, {"version"});
+        if (root.attribute("version") && std::string(root.attribute("version").value()) != "1")
+            fail(lines_.line(root), "unknown experiment version '" + std::string(root.attribute("version").value()) + "' (1 is known)");
+        bool have_time = false, have_drive = false;
+        std::set<std::string> column_names;
+        const std::filesystem::path base = std::filesystem::path(exp_.path).parent_path();
+        for (pugi::xml_node n : root.children()) {
+            if (n.type() != pugi::node_element) continue;
+            const std::string name = n.name();
+            const int line = lines_.line(n);
+            if (name == "record") {
+                attributes(n, {"file", "role", "start", "stop"});
+                RecordSpec r;
+                r.line = line;
+                const std::string file = n.attribute("file").value();
+                if (file.empty()) fail(line, "<record> needs a file");
+                r.path = file.empty() ? file : (std::filesystem::path(file).is_absolute() ? file : (base / file).string());
+                const std::string role = n.attribute("role").value();
+                if (role == "fit")
+                    r.role = Role::Fit;
+                else if (role == "validation")
+                    r.role = Role::Validation;
+                else
+                    fail(line, "<record> role must be 'fit' or 'validation' (got '" + role + "')");
+                r.start = optional_number(n, "start", -1);
+                r.stop = optional_number(n, "stop", -1);
+                if (r.start >= 0 && r.stop >= 0 && !(r.stop > r.start)) fail(line, "<record> stop must be after start");
+                exp_.records.push_back(r);
+            } else if (name == "time") {
+                attributes(n, {"column", "unit", "scale"});
+                if (have_time) fail(line, "a second <time>");
+                have_time = true;
+                exp_.time_column = n.attribute("column").value();
+                if (exp_.time_column.empty()) fail(line, "<time> needs a column");
+                const std::string unit = n.attribute("unit").value();
+                if (unit == "s" || unit.empty())
+                    exp_.time_factor = 1;
+                else if (unit == "ms")
+                    exp_.time_factor = 1e-3;
+                else
+                    fail(line, "<time> unit must be 's' or 'ms' (got '" + unit + "')");
+                exp_.time_factor *= positive(n, "scale", 1);
+            } else if (name == "column") {
+                attributes(n, {"name", "joint", "body", "quantity", "unit", "scale", "optional"});
+                ColumnSpec c;
+                c.line = line;
+                c.name = n.attribute("name").value();
+                if (c.name.empty()) fail(line, "<column> needs a name (the CSV header)");
+                if (!column_names.insert(c.name).second) fail(line, "column '" + c.name + "' is described twice");
+                subject(n, c.joint, c.body);
+                c.quantity = quantity(n);
+                c.unit = n.attribute("unit").value();
+                if (c.unit.empty()) fail(line, "<column> '" + c.name + "' needs a unit");
+                double f = 0;
+                if (!c.unit.empty() && !unit_factor(c.quantity, c.unit, false, f) && !unit_factor(c.quantity, c.unit, true, f))
+                    fail(line, "unit '" + c.unit + "' is not one of " + quantity_name(c.quantity) + "'s units");
+                c.scale = number(n, "scale", 1);
+                if (c.scale == 0) fail(line, "<column> scale must not be 0");
+                const std::string opt = n.attribute("optional").value();
+                if (!opt.empty() && opt != "true" && opt != "false") fail(line, "optional must be 'true' or 'false'");
+                c.optional = opt == "true";
+                exp_.columns.push_back(c);
+            } else if (name == "drive") {
+                attributes(n, {"mode", "horizon"});
+                if (have_drive) fail(line, "a second <drive>");
+                have_drive = true;
+                const std::string mode = n.attribute("mode").value();
+                if (mode == "closed_loop")
+                    exp_.mode = DriveMode::ClosedLoop;
+                else if (mode == "effort")
+                    exp_.mode = DriveMode::Effort;
+                else if (mode == "free")
+                    exp_.mode = DriveMode::Free;
+                else
+                    fail(line, "<drive> mode must be closed_loop, effort or free (got '" + mode + "')");
+                exp_.horizon = positive(n, "horizon", 0.5);
+            } else if (name == "compare") {
+                attributes(n, {"joint", "body", "quantity", "weight", "start", "stop"});
+                CompareSpec c;
+                c.line = line;
+                subject(n, c.joint, c.body);
+                c.quantity = quantity(n);
+                c.weight = positive(n, "weight", 1);
+                c.start = optional_number(n, "start", -1);
+                c.stop = optional_number(n, "stop", -1);
+                if (c.start >= 0 && c.stop >= 0 && !(c.stop > c.start)) fail(line, "<compare> stop must be after start");
+                exp_.compare.push_back(c);
+            } else {
+                fail(line, "unknown element <" + name + ">");
+            }
+        }
+        const int root_line = lines_.line(root);
+        if (!have_time) fail(root_line, "no <time column=...>");
+        bool fit = false, validation = false;
+        for (const RecordSpec& r : exp_.records) (r.role == Role::Fit ? fit : validation) = true;
+        if (!fit) fail(root_line, "no <record role=\"fit\">");
+        if (!validation) fail(root_line, "no <record role=\"validation\"> (give a held-out file or time window)");
+        if (exp_.compare.empty()) fail(root_line, "no <compare>: which signals should the model reproduce?");
+        finish();
+        return exp_;
+    }
+
+private:
+    void fail(int line, const std::string& message) {
+        errors_ += (errors_.empty() ? "" : "\n") + exp_.path + ":" + std::to_string(line) + ": " + message;
+        if (!first_line_) first_line_ = line;
+    }
+    void finish() {
+        if (!errors_.empty()) throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("experiment"), errors_, exp_.path, first_line_);
+    }
+    void attributes(const pugi::xml_node& n, std::initializer_list<const char*> known) {
+        for (pugi::xml_attribute a : n.attributes()) {
+            bool ok = false;
+            for (const char* k : known) ok = ok || std::string(a.name()) == k;
+            if (!ok) fail(lines_.line(n), "unknown attribute '" + std::string(a.name()) + "' on <" + n.name() + ">");
+        }
+    }
+    double number(const pugi::xml_node& n, const char* attr, double fallback) {
+        const pugi::xml_attribute a = n.attribute(attr);
+        if (!a) return fallback;
+        double v = 0;
+        if (!parse_xml_number(a.value(), v)) {
+            fail(lines_.line(n), std::string(attr) + " '" + a.value() + "' is not a finite number");
+            return fallback;
+        }
+        return v;
+    }
+    double positive(const pugi::xml_node& n, const char* attr, double fallback) {
+        const double v = number(n, attr, fallback);
+        if (!(v > 0)) {
+            fail(lines_.line(n), std::string(attr) + " must be positive");
+            return fallback;
+        }
+        return v;
+    }
+    double optional_number(const pugi::xml_node& n, const char* attr, double fallback) {
+        if (!n.attribute(attr)) return fallback;
+        const double v = number(n, attr, fallback);
+        if (v < 0) fail(lines_.line(n), std::string(attr) + " must not be negative");
+        return v;
+    }
+    void subject(const pugi::xml_node& n, std::string& joint, std::string& body) {
+        joint = n.attribute("joint").value();
+        body = n.attribute("body").value();
+        if (joint.empty() == body.empty())
+            fail(lines_.line(n), std::string("<") + n.name() + "> needs exactly one of joint and body");
+    }
+    Quantity quantity(const pugi::xml_node& n) {
+        Quantity q = Quantity::Position;
+        const std::string word = n.attribute("quantity").value();
+        if (!parse_quantity(word, q))
+            fail(lines_.line(n), "unknown quantity '" + word +
+                                     "' (position, velocity, acceleration, effort, voltage, current, reference, controller_input)");
+        return q;
+    }
+
+    const std::string& text_;
+    XmlLines lines_;
+    Experiment exp_;
+    std::string errors_;
+    int first_line_ = 0;
+};
+
+}  // namespace
+
+Experiment parse_experiment(const std::string& text, const std::string& path) { return Parser(text, path).run(); }
+
+Experiment load_experiment(const std::string& path) {
+    std::string text;
+    if (!read_text_file(path, text))
+        throw Error(MBX_ERROR_IO, Subject::model("experiment"), "cannot read the experiment file '" + path + "'", path);
+    return parse_experiment(text, path);
+}
+
+}  // namespace mbx::calibration

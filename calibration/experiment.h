@@ -1,0 +1,66 @@
+// The experiment file (docs/calibration.md): which measured records fit and
+// which validate, which column is which quantity of which CAD joint or body,
+// how the model is driven along them and which signals are compared. Parsed
+// with every problem named by file and line.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace mbx::calibration {
+
+enum class Quantity { Position, Velocity, Acceleration, Effort, Voltage, Current, Reference, ControllerInput };
+enum class DriveMode { ClosedLoop, Effort, Free };
+enum class Role { Fit, Validation };
+
+const char* quantity_name(Quantity q);
+const char* drive_mode_name(DriveMode m);
+
+struct RecordSpec {
+    std::string path;  // resolved against the experiment file's folder
+    Role role = Role::Fit;
+    double start = -1, stop = -1;  // s on the record's time; < 0: open
+    int line = 0;
+};
+
+// One column of every record: a quantity of a joint or a body, in SI after
+// value = raw * scale * unit factor (the factor depends on the joint's kind,
+// so it is applied when the experiment is bound to a model).
+struct ColumnSpec {
+    std::string name;
+    std::string joint, body;  // CAD id or report name; exactly one is set
+    Quantity quantity = Quantity::Position;
+    std::string unit;
+    double scale = 1;  // the user's factor on top of the unit's
+    bool optional = false;
+    int line = 0;
+};
+
+struct CompareSpec {
+    std::string joint, body;
+    Quantity quantity = Quantity::Effort;
+    double weight = 1;
+    double start = -1, stop = -1;
+    int line = 0;
+};
+
+struct Experiment {
+    std::string path;  // the experiment file
+    std::vector<RecordSpec> records;
+    std::string time_column;
+    double time_factor = 1;
+    std::vector<ColumnSpec> columns;
+    DriveMode mode = DriveMode::ClosedLoop;
+    double horizon = 0.5;  // s, effort mode's forward-simulation windows
+    std::vector<CompareSpec> compare;
+};
+
+// Throws mbx::Error (MBX_ERROR_INVALID_INPUT) naming "file:line" and the
+// problem, all problems of the file in one message.
+Experiment load_experiment(const std::string& path);
+Experiment parse_experiment(const std::string& text, const std::string& path);
+
+// The SI factor of a unit for a quantity; false if the unit is unknown for
+// it. `linear`: the joint is prismatic (lengths) rather than revolute (angles).
+bool unit_factor(Quantity q, const std::string& unit, bool linear, double& factor);
+
+}  // namespace mbx::calibration

@@ -1,0 +1,146 @@
+#include "calibration/records.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/finding.h"
+#include "sim/simulation.h"
+
+namespace mbx::calibration {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, int line, const std::string& message) {
+    throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("experiment"),
+                path + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message, path, line);
+}
+
+std::string trim(const std::string& s) {
+    size_t a = 0, b = s.size();
+    while (a < b && (s[a] == ' ' || s[a] == '\t' || s[a] == '"')) ++a;
+    while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '\r' || s[b - 1] == '"')) --b;
+    return s.substr(a, b - a);
+}
+
+}  // namespace
+
+int Table::column(const std::string& name) const {
+    for (size_t k = 0; k < header.size(); ++k)
+        if (header[k] == name) return int(k);
+    return -1;
+}
+
+Table read_csv(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(MBX_ERROR_IO, Subject::model("experiment"), "cannot read the record '" + path + "'", path);
+    Table t;
+    std::string line;
+    if (!std::getline(in, line)) fail(path, 1, "the record is empty (a header line of column names is expected)");
+    {
+        std::stringstream header(line);
+        std::string cell;
+        while (std::getline(header, cell, ',')) t.header.push_back(trim(cell));
+    }
+    t.columns.assign(t.header.size(), {});
+    int number = 1;
+    while (std::getline(in, line)) {
+        ++number;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.find_first_not_of(" \t") == std::string::npos) continue;
+        const char* p = line.data();
+        const char* end = p + line.size();
+        for (size_t c = 0; c < t.header.size(); ++c) {
+            while (p < end && (*p == ' ' || *p == '\t')) ++p;
+            if (p < end && *p == '+') ++p;
+            double v = 0;
+            const auto r = std::from_chars(p, end, v);
+            if (r.ec != std::errc() || !std::isfinite(v))
+                fail(path, number, "column '" + t.header[c] + "' is not a finite number");
+            p = r.ptr;
+            while (p < end && (*p == ' ' || *p == '\t')) ++p;
+            if (c + 1 < t.header.size()) {
+                if (p >= end || *p != ',')
+                    fail(path, number, "expected " + std::to_string(t.header.size()) + " comma-separated values");
+                ++p;
+            } else if (p != end) {
+                fail(path, number, "more values than the header's " + std::to_string(t.header.size()) + " columns");
+            }
+            t.columns[c].push_back(v);
+        }
+    }
+    return t;
+}
+
+std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
+    // Bind columns to joints first: one error for an unknown joint, whatever the records.
+    struct Binding {
+        const ColumnSpec* spec;
+        int joint, dof;
+        double factor;
+    };
+    std::vector<Binding> bindings;
+    for (const ColumnSpec& c : e.columns) {
+        if (!c.body.empty())
+            fail(e.path, c.line, "column '" + c.name + "': body quantities are not supported yet (give a joint)");
+        bool ambiguous = false;
+        const int j = sim::find_joint(m, c.joint, &ambiguous);
+        if (j < 0)
+            fail(e.path, c.line,
+                 ambiguous ? "joint '" + c.joint + "' names several joints; give its CAD constraint id"
+                           : "no joint '" + c.joint + "' in the model (CAD constraint id or report name)");
+        const sim::JointT<double>& joint = m.joints[size_t(j)];
+        if (joint.nv() != 1)
+            fail(e.path, c.line, "joint '" + joint.name + "' has no single coordinate (only revolute and prismatic joints can be measured)");
+        const bool linear = joint.kind == sim::JointKind::Prismatic;
+        double factor = 1;
+        if (!unit_factor(c.quantity, c.unit, linear, factor))
+            fail(e.path, c.line, "unit '" + c.unit + "' does not fit the " + quantity_name(c.quantity) + " of " +
+                                     (linear ? "prismatic" : "revolute") + " joint '" + joint.name + "'");
+        bindings.push_back({&c, j, joint.v_index, factor * c.scale});
+    }
+    std::vector<Record> out;
+    for (const RecordSpec& rs : e.records) {
+        const Table table = read_csv(rs.path);
+        const int tc = table.column(e.time_column);
+        if (tc < 0) fail(rs.path, 1, "no time column '" + e.time_column + "' (" + e.path + ":" + std::to_string(rs.line) + ")");
+        const std::vector<double>& t_raw = table.columns[size_t(tc)];
+        for (size_t k = 1; k < t_raw.size(); ++k)
+            if (!(t_raw[k] > t_raw[k - 1])) fail(rs.path, int(k) + 2, "time does not increase");
+        Record r;
+        r.path = rs.path;
+        r.role = rs.role;
+        size_t first = 0, last = t_raw.size();
+        for (size_t k = 0; k < t_raw.size(); ++k) {
+            const double t = t_raw[k] * e.time_factor;
+            if (rs.start >= 0 && t < rs.start) first = k + 1;
+            if (rs.stop >= 0 && t > rs.stop && last == t_raw.size()) last = k;
+        }
+        if (last < first) last = first;
+        if (last - first < kMinimumSamples)
+            fail(rs.path, 0, std::to_string(last - first) + " samples" +
+                                 (rs.start >= 0 || rs.stop >= 0 ? " in the window" : "") + "; at least " +
+                                 std::to_string(kMinimumSamples) + " are needed (" + e.path + ":" +
+                                 std::to_string(rs.line) + ")");
+        for (size_t k = first; k < last; ++k) r.t.push_back(t_raw[k] * e.time_factor);
+        r.start = r.t.front(), r.stop = r.t.back();
+        for (const Binding& b : bindings) {
+            const int c = table.column(b.spec->name);
+            if (c < 0) {
+                if (b.spec->optional) continue;
+                fail(rs.path, 1, "no column '" + b.spec->name + "' (described at " + e.path + ":" +
+                                     std::to_string(b.spec->line) + ")");
+            }
+            Signal s;
+            s.quantity = b.spec->quantity, s.joint = b.joint, s.dof = b.dof, s.column = b.spec->name;
+            s.values.reserve(last - first);
+            for (size_t k = first; k < last; ++k) s.values.push_back(table.columns[size_t(c)][k] * b.factor);
+            r.signals.push_back(std::move(s));
+        }
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+}  // namespace mbx::calibration

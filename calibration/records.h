@@ -1,0 +1,56 @@
+// The measured records of an experiment, read from CSV and bound to a
+// simulation model: per record its time and, per compared or driving
+// quantity, a signal on a joint's velocity coordinate in SI. A record's
+// time window (start/stop) is cut here, so later stages see only the
+// samples they may use.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "calibration/experiment.h"
+#include "sim/model.h"
+
+namespace mbx::calibration {
+
+struct Signal {
+    Quantity quantity = Quantity::Position;
+    int joint = -1;  // sim joint index (1-dof joints)
+    int dof = -1;    // its velocity coordinate
+    std::string column;
+    std::vector<double> values;  // SI, one per sample
+};
+
+struct Record {
+    std::string path;
+    Role role = Role::Fit;
+    double start = 0, stop = 0;  // the window used, s
+    std::vector<double> t;       // s
+    std::vector<Signal> signals;
+
+    const Signal* find(Quantity q, int dof) const {
+        for (const Signal& s : signals)
+            if (s.quantity == q && s.dof == dof) return &s;
+        return nullptr;
+    }
+    double sample_period() const { return t.size() > 1 ? (t.back() - t.front()) / double(t.size() - 1) : 0; }
+};
+
+// Below this a record (after its window) cannot tell the causes apart.
+constexpr size_t kMinimumSamples = 50;
+
+// Reads every record of `e` and binds its columns to `m`'s joints (CAD
+// constraint id or report name). Throws mbx::Error naming file and line:
+// unknown joint, a unit of the wrong kind for it, a missing column, a cell
+// that is not a finite number, time not increasing, too few samples.
+std::vector<Record> load_records(const Experiment& e, const sim::Model& m);
+
+// Reads one CSV into named columns (every column of the header), for tests
+// and tools. Same errors.
+struct Table {
+    std::vector<std::string> header;
+    std::vector<std::vector<double>> columns;
+    int column(const std::string& name) const;
+};
+Table read_csv(const std::string& path);
+
+}  // namespace mbx::calibration

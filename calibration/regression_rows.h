@@ -1,0 +1,48 @@
+// The rows of the inverse-dynamics regression: along the measured motion
+// (filtered, differentiated, decimated) the model's inverse dynamics
+// predicts each actuated joint's effort; the measured effort minus that is
+// what the causes (calibration/causes.h) must explain.
+#pragma once
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "calibration/records.h"
+
+namespace mbx::calibration {
+
+// The regression data of one set of records (fit or validation): rows are
+// (decimated sample, actuated joint) pairs.
+struct RegressionRows {
+    std::vector<int> actuated;  // velocity coordinates with a measured effort
+    std::vector<double> weight; // per actuated coordinate: 1 / RMS of its fit-record effort
+    int samples = 0;
+    // Per sample and coordinate (samples x nv), filtered and differentiated.
+    Eigen::MatrixXd q, qd, qdd;
+    // Per sample and actuated coordinate (samples x actuated).
+    Eigen::MatrixXd effort, effort_rate, model_effort;
+    // d model_effort / d q_j, per coordinate j: (samples x actuated) each.
+    std::vector<Eigen::MatrixXd> effort_by_position;
+    // Inverse dynamics of one body's inertia alone (gravity included), per body.
+    std::vector<Eigen::MatrixXd> effort_of_body;
+    Eigen::VectorXd y() const;        // weighted residual, stacked sample-major
+    Eigen::VectorXd measured() const; // weighted measured effort, same order
+};
+
+struct IdentifyOptions {
+    double cutoff = 0;         // Hz; 0: chosen from the sampling rate (fs / 40, at most 25 Hz)
+    double min_t_ratio = 5;    // a cause's parameters must exceed this many standard errors
+    // and cut the validation error by this fraction of itself (a tenth: a
+    // cause worth naming removes a visible part of what is left)
+    double min_relative_gain = 0.1;
+    double bic_margin = 10;    // and lower the validation BIC by this much (strong evidence)
+    int max_causes = 6;
+};
+
+// Rows from records: positions of every coordinate must be measured (trees;
+// loops need the closure-consistent motion: not yet). Throws mbx::Error.
+RegressionRows regression_rows(const sim::Model& m, const std::vector<const Record*>& records,
+                               const IdentifyOptions& options, const std::vector<double>* weights = nullptr);
+
+}  // namespace mbx::calibration
+
