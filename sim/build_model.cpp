@@ -43,9 +43,13 @@ void check_dynamics(const JointT<double>& j, const JointDynamics& jd) {
     const std::pair<const char*, double> values[] = {
         {"damping", jd.damping}, {"coulomb", jd.coulomb}, {"coulomb_velocity", jd.coulomb_velocity},
         {"stiffness", jd.stiffness}, {"armature", jd.armature}, {"limit_stiffness", jd.limit_stiffness},
-        {"limit_damping", jd.limit_damping}};
+        {"limit_damping", jd.limit_damping}, {"stribeck", jd.stribeck}, {"stribeck_velocity", jd.stribeck_velocity},
+        {"damping_negative", jd.asymmetric ? jd.damping_negative : 0.0},
+        {"coulomb_negative", jd.asymmetric ? jd.coulomb_negative : 0.0}};
     for (const auto& [name, value] : values)
         if (!std::isfinite(value) || value < 0) fail(std::string(name) + " must be finite and not negative");
+    if (!std::isfinite(jd.offset)) fail("offset must be finite");
+    if (jd.stribeck > 0 && !(jd.stribeck_velocity > 0)) fail("stribeck needs a positive stribeck_velocity");
     if (!std::isfinite(jd.rest)) fail("rest position must be finite");
     if (jd.limited && !(std::isfinite(jd.lower) && std::isfinite(jd.upper) && jd.lower <= jd.upper))
         fail("limits must be finite with lower <= upper");

@@ -51,7 +51,7 @@ struct Session {
     SUNLinearSolver ls = nullptr;
     bool project = false;
 
-    // Coulomb friction: per joint with coulomb > 0, its velocity coordinate,
+    // Dry friction: per joint that has some (dry_friction()), its velocity coordinate,
     // mode (kStuck, or +-1: slipping that way), and the position it is held at.
     std::vector<int> friction_dof;
     std::vector<int> mode;
@@ -97,7 +97,14 @@ struct Session {
 
     const Model& m() const { return *model; }
     const JointT<double>& joint_of_dof(int dof) const { return m().joints[size_t(m().dof_joint[size_t(dof)])]; }
-    double coulomb(int i) const { return joint_of_dof(friction_dof[size_t(i)]).dynamics.coulomb; }
+    const JointDynamics& friction(int i) const { return joint_of_dof(friction_dof[size_t(i)]).dynamics; }
+    // A stuck joint held by effort h carries the load -h: it would slip along
+    // -h, so that direction's static friction (asymmetric Coulomb level plus
+    // the Stribeck peak) is what h must exceed.
+    double stick_margin(int i) const {
+        const double h = holding[long(i)];
+        return static_friction(friction(i), h > 0 ? -1 : 1) - std::fabs(h);
+    }
 
     void refresh_stuck() {
         std::fill(stuck_dof.begin(), stuck_dof.end(), 0);
@@ -144,7 +151,8 @@ struct Session {
         if (inputs && *inputs) (*inputs)(dd.time, dd);
         passive_forces(mm, dd, FrictionLaw::Slipping, &coulomb_dof);
         for (size_t i = 0; i < friction_dof.size(); ++i)
-            if (mode[i] != kStuck) dd.qfrc_passive[friction_dof[i]] -= coulomb(int(i)) * double(mode[i]);
+            if (mode[i] != kStuck)
+                dd.qfrc_passive[friction_dof[i]] += slip_friction(friction(int(i)), dd.v[friction_dof[i]], mode[i]);
         for (size_t k = 0; k < mm.drives.size(); ++k) {
             if (!memoryless[k]) continue;
             const JointT<double>& j = joint_of_dof(mm.drive_dof[k]);
@@ -229,14 +237,14 @@ int rhs(double t, N_Vector y, N_Vector ydot, void* user) {
 }
 
 // Slipping: the joint speed, which reaches zero where the joint may stick.
-// Stuck: the margin between the Coulomb limit and the holding effort.
+// Stuck: the margin between the static friction and the holding effort.
 int roots(double t, N_Vector y, double* g, void* user) {
     Session& s = *static_cast<Session*>(user);
     try {
         s.load(t, N_VGetArrayPointer(y));
         if (s.stuck_count) s.dynamics(true);
         for (size_t i = 0; i < s.friction_dof.size(); ++i)
-            g[i] = s.mode[i] == kStuck ? s.coulomb(int(i)) - std::fabs(s.holding[long(i)]) : s.d->v[s.friction_dof[i]];
+            g[i] = s.mode[i] == kStuck ? s.stick_margin(int(i)) : s.d->v[s.friction_dof[i]];
         return 0;
     } catch (...) {
         s.error = std::current_exception();
@@ -281,7 +289,7 @@ Session& session_for(const Model& m, Data& d) {
     s->owner = &d;
     s->nq = m.nq, s->nv = m.nv, s->n = m.nq + m.nv;
     for (const JointT<double>& j : m.joints)
-        if (j.nv() == 1 && j.dynamics.coulomb > 0) s->friction_dof.push_back(j.v_index);
+        if (j.nv() == 1 && j.dynamics.dry_friction()) s->friction_dof.push_back(j.v_index);
     const size_t nf = s->friction_dof.size();
     s->mode.assign(nf, 1);
     s->held_q.assign(nf, 0);
@@ -369,7 +377,7 @@ void settle_modes(Session& s, const std::vector<int>& before, bool count) {
         double excess = 0;
         for (size_t i = 0; i < nf; ++i) {
             if (s.mode[i] != kStuck) continue;
-            const double e = std::fabs(s.holding[long(i)]) - s.coulomb(int(i));
+            const double e = -s.stick_margin(int(i));
             if (e >= 0 && (worst < 0 || e > excess)) worst = int(i), excess = e;
         }
         if (worst >= 0) {

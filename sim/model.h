@@ -19,9 +19,15 @@ namespace mbx::sim {
 // What acts on one joint besides the bodies (per velocity coordinate of a
 // revolute or prismatic joint; efforts in N m or N). All zero: a free joint.
 template <class S> struct JointDynamicsT {
-    S damping = S(0);          // viscous: -damping * qd
-    S coulomb = S(0);          // Coulomb friction magnitude
+    S damping = S(0);          // viscous: -damping * qd (qd > 0 only when asymmetric)
+    S coulomb = S(0);          // Coulomb friction magnitude (qd > 0 only when asymmetric)
     S coulomb_velocity = S(0); // regularisation speed of the fixed-step law (0: model default)
+    // asymmetric: damping_negative and coulomb_negative hold for qd < 0.
+    bool asymmetric = false;
+    S damping_negative = S(0), coulomb_negative = S(0);
+    S stribeck = S(0);           // static friction above the Coulomb level: + stribeck * exp(-(qd/stribeck_velocity)^2)
+    S stribeck_velocity = S(0);
+    S offset = S(0);             // constant effort the actuator supplies besides the rest: acts as -offset
     S stiffness = S(0);        // spring: -stiffness * (q - rest)
     S rest = S(0);
     S armature = S(0);         // added to the joint's diagonal of the mass matrix (reflected rotor inertia)
@@ -32,13 +38,24 @@ template <class S> struct JointDynamicsT {
     template <class T> JointDynamicsT<T> cast() const {
         JointDynamicsT<T> r;
         r.damping = T(damping), r.coulomb = T(coulomb), r.coulomb_velocity = T(coulomb_velocity);
+        r.asymmetric = asymmetric, r.damping_negative = T(damping_negative), r.coulomb_negative = T(coulomb_negative);
+        r.stribeck = T(stribeck), r.stribeck_velocity = T(stribeck_velocity), r.offset = T(offset);
         r.stiffness = T(stiffness), r.rest = T(rest), r.armature = T(armature);
         r.limited = limited, r.lower = T(lower), r.upper = T(upper);
         r.limit_stiffness = T(limit_stiffness), r.limit_damping = T(limit_damping);
         return r;
     }
+    // The Coulomb level and the viscous coefficient for motion along
+    // `direction` (+1 or -1).
+    const S& coulomb_along(int direction) const { return asymmetric && direction < 0 ? coulomb_negative : coulomb; }
+    const S& damping_along(int direction) const { return asymmetric && direction < 0 ? damping_negative : damping; }
+    // Any dry friction (the accurate mode's stick/slip joints).
+    bool dry_friction() const {
+        return coulomb != S(0) || (asymmetric && coulomb_negative != S(0)) || stribeck != S(0);
+    }
     bool passive() const {
-        return damping != S(0) || coulomb != S(0) || stiffness != S(0) || limited;
+        return damping != S(0) || (asymmetric && damping_negative != S(0)) || dry_friction() || offset != S(0) ||
+               stiffness != S(0) || limited;
     }
 };
 

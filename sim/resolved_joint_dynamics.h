@@ -20,6 +20,12 @@ inline std::map<int, JointDynamics> joint_dynamics_by_joint(const std::vector<Re
         jd.damping = r.damping;
         jd.coulomb = r.coulomb;
         jd.coulomb_velocity = r.coulomb_velocity;
+        jd.asymmetric = r.asymmetric();
+        jd.damping_negative = r.damping_negative;
+        jd.coulomb_negative = r.coulomb_negative;
+        jd.stribeck = r.stribeck;
+        jd.stribeck_velocity = r.stribeck_velocity;
+        jd.offset = r.offset;
         jd.stiffness = r.stiffness;
         jd.rest = r.rest;
         jd.armature = r.armature;

@@ -28,7 +28,9 @@ double total_energy(const Model& m, Data& d) {
 bool model_is_passive(const Model& m) {
     if (!m.drives.empty()) return false;
     for (const JointT<double>& j : m.joints)
-        if (j.dynamics.damping != 0 || j.dynamics.coulomb != 0 || j.dynamics.limited) return false;
+        if (j.dynamics.damping != 0 || (j.dynamics.asymmetric && j.dynamics.damping_negative != 0) ||
+            j.dynamics.dry_friction() || j.dynamics.offset != 0 || j.dynamics.limited)
+            return false;
     return true;
 }
 

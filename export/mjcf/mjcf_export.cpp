@@ -147,7 +147,7 @@ private:
         const ResolvedJointDynamics* jd = model_.joint_dynamics_of(j.joint);
         if (jd) {
             armature += jd->armature;
-            damping += jd->damping;
+            damping += jd->symmetric_damping();
         }
         if (armature > 0) set(node, "armature", number_text(armature));
         if (damping > 0) set(node, "damping", number_text(damping));
@@ -155,7 +155,14 @@ private:
         // frictionloss is MuJoCo's dry friction on the joint (a soft
         // constraint, so it sticks where mbx's accurate mode sticks);
         // springref is the spring's rest position in joint coordinates.
-        if (jd->coulomb > 0) set(node, "frictionloss", number_text(jd->coulomb));
+        // MuJoCo's joint friction and damping are symmetric and it has no
+        // constant joint effort: the law's symmetric part is written, the
+        // rest named in a note.
+        if (jd->symmetric_coulomb() > 0) set(node, "frictionloss", number_text(jd->symmetric_coulomb()));
+        if (const std::string lost = joint_dynamics_beyond_symmetric(*jd); !lost.empty())
+            model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(j.joint),
+                        "MJCF joint friction and damping are symmetric and MuJoCo has no constant joint effort: joint '" +
+                            jd->name + "' is written without " + lost);
         if (jd->stiffness > 0) {
             set(node, "stiffness", number_text(jd->stiffness));
             if (jd->rest != 0) set(node, "springref", number_text(jd->rest));

@@ -44,7 +44,7 @@ public:
                 out_.constraint_rows += joint.limited ? 1 : 0;
                 // MuJoCo's dry friction is a constraint row of its own.
                 const ResolvedJointDynamics* jd = model_.joint_dynamics_of(joint.joint);
-                out_.constraint_rows += jd && jd->coulomb > 0 ? 1 : 0;
+                out_.constraint_rows += jd && jd->symmetric_coulomb() > 0 ? 1 : 0;
             }
         for (const MjcfEquality& e : out_.equalities) out_.constraint_rows += e.kind == MjcfEquality::WELD ? 6 : 3;
         return std::move(out_);

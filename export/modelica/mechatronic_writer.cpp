@@ -332,6 +332,14 @@ void MechatronicBuilder::add_drive(int index) {
 // its relative coordinate is the joint coordinate; Coulomb friction as MSL's
 // bearing (support) friction with stick/slip; armature as an inertia (mass)
 // on the axis. MultiBody joints have no limits: they become a note.
+//
+// MSL's friction is symmetric, but an asymmetric Coulomb law is exactly the
+// mean level plus the constant effort -(coulomb - coulomb_negative)/2, in
+// slip and in stick alike; that and the effort offset become one constant
+// torque (force) source between support and axis. A Stribeck peak is the
+// friction table's value at rest (peak = 1, so the static friction is
+// exact) decaying along sampled points of exp(-(w/vs)^2). Only asymmetric
+// damping has no MSL element: the mean damping and a note.
 void MechatronicBuilder::add_joint_dynamics(int index) {
     const ResolvedJointDynamics& jd = model_.settings().joint_dynamics[size_t(index)];
     const Joint* joint = jd.joint >= 0 && size_t(jd.joint) < m_.joints.size() ? &m_.joints[size_t(jd.joint)] : nullptr;
@@ -364,29 +372,72 @@ void MechatronicBuilder::add_joint_dynamics(int index) {
     connects_.clear();
 
     std::string compliant;
-    const std::string damping_text = "damping " + number_text(jd.damping) + " " + effort_unit + " s/" + position_unit;
+    const std::string damping_text =
+        "damping " + number_text(jd.symmetric_damping()) + " " + effort_unit + " s/" + position_unit +
+        (jd.damping_negative != jd.damping ? " (mean of both directions)" : "");
     const std::string spring_text = "stiffness " + number_text(jd.stiffness) + " " + effort_unit + "/" + position_unit +
                                     " about " + number_text(jd.rest) + " " + position_unit;
-    if (jd.damping > 0 && jd.stiffness > 0)
+    const double damping = jd.symmetric_damping();
+    if (jd.damping_negative != jd.damping)
+        model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(jd.joint),
+                    "Modelica: MSL's dampers are symmetric: joint " + quoted(jd.name) + " gets the mean damping " +
+                        number_text(damping) + " of " + number_text(jd.damping) + " (q' > 0) and " +
+                        number_text(jd.damping_negative) + " (q' < 0)");
+    if (damping > 0 && jd.stiffness > 0)
         compliant = add("spring_damper", lib + "Components.SpringDamper",
-                        {{"c", number_text(jd.stiffness)}, {"d", number_text(jd.damping)}, {rest, number_text(jd.rest)}},
+                        {{"c", number_text(jd.stiffness)}, {"d", number_text(damping)}, {rest, number_text(jd.rest)}},
                         spring_text + ", " + damping_text);
     else if (jd.stiffness > 0)
         compliant = add("spring", lib + "Components.Spring", {{"c", number_text(jd.stiffness)}, {rest, number_text(jd.rest)}},
                         spring_text);
-    else if (jd.damping > 0)
-        compliant = add("damper", lib + "Components.Damper", {{"d", number_text(jd.damping)}}, damping_text);
+    else if (damping > 0)
+        compliant = add("damper", lib + "Components.Damper", {{"d", number_text(damping)}}, damping_text);
     if (!compliant.empty()) {
         connect(support, compliant + ".flange_a");
         connect(compliant + ".flange_b", axis);
     }
-    if (jd.coulomb > 0) {
-        const std::string table = "[0, " + number_text(jd.coulomb) + "]";
+    const double coulomb = jd.symmetric_coulomb();
+    if (coulomb > 0 || jd.stribeck > 0) {
+        std::string table = "[0, " + number_text(coulomb + jd.stribeck);
+        std::string what = "Coulomb friction " + number_text(coulomb) + " " + effort_unit;
+        if (jd.stribeck > 0) {
+            // Rows every vs/4 up to 2.5 vs, then flat from 3 vs (where the
+            // peak is down to 1e-4 of itself): MSL extrapolates the last
+            // segment, which must not keep falling.
+            for (int k = 1; k <= 10; ++k) {
+                const double x = 0.25 * k;
+                table += "; " + number_text(x * jd.stribeck_velocity) + ", " +
+                         number_text(coulomb + jd.stribeck * std::exp(-x * x));
+            }
+            table += "; " + number_text(3 * jd.stribeck_velocity) + ", " + number_text(coulomb);
+            table += "; " + number_text(4 * jd.stribeck_velocity) + ", " + number_text(coulomb);
+            what += " with a Stribeck peak " + number_text(jd.stribeck) + " " + effort_unit + " decaying over " +
+                    number_text(jd.stribeck_velocity) + (linear ? " m/s" : " rad/s");
+        }
+        table += "]";
+        if (jd.coulomb_negative != jd.coulomb) what += " (mean of both directions)";
         const std::string friction =
             add("friction", lib + (linear ? "Components.SupportFriction" : "Components.BearingFriction"),
-                {{linear ? "f_pos" : "tau_pos", table}, {"peak", "1"}},
-                "Coulomb friction " + number_text(jd.coulomb) + " " + effort_unit + " (stick and slip)");
+                {{linear ? "f_pos" : "tau_pos", table}, {"peak", "1"}}, what + " (stick and slip)");
         connect(friction + ".flange_a", axis);
+    }
+    // The effort on the joint: -offset, and the asymmetric Coulomb law's
+    // constant part. MSL's sources drive their flange with +tau_constant
+    // (+f_constant) and put the reaction on their support.
+    const double constant = -jd.offset - (jd.coulomb - jd.coulomb_negative) / 2;
+    if (constant != 0) {
+        std::string what = "constant effort " + number_text(constant) + " " + effort_unit + " on the joint (";
+        if (jd.offset != 0) what += "offset " + number_text(jd.offset) + " " + effort_unit + " acting as -offset";
+        if (jd.offset != 0 && jd.coulomb_negative != jd.coulomb) what += "; ";
+        if (jd.coulomb_negative != jd.coulomb)
+            what += "asymmetric Coulomb friction " + number_text(jd.coulomb) + " (q' > 0) / " +
+                    number_text(jd.coulomb_negative) + " (q' < 0) = their mean plus this constant";
+        what += ")";
+        const std::string source =
+            add("offset", lib + (linear ? "Sources.ConstantForce" : "Sources.ConstantTorque"),
+                {{linear ? "f_constant" : "tau_constant", number_text(constant)}, {"useSupport", "true"}}, what);
+        connect(source + ".flange", axis);
+        connect(source + ".support", support);
     }
     if (jd.armature > 0) {
         const std::string armature =

@@ -52,10 +52,16 @@
 //                         Spring or Damper with c, d and the rest position
 //                         (phi_rel0 or s_rel0) between support_<joint> and
 //                         axis_<joint>: its relative coordinate is the joint's
+//                         (damping: the mean of both directions)
 //   friction              Rotational.Components.BearingFriction (tau_pos =
-//                         [0, coulomb]) or Translational.Components.
-//                         SupportFriction (f_pos), peak 1, on the axis: MSL's
-//                         stick/slip Coulomb friction, no regularisation speed
+//                         [0, mean coulomb], or sampled Stribeck rows) or
+//                         Translational.Components.SupportFriction (f_pos),
+//                         peak 1, on the axis: MSL's stick/slip friction, no
+//                         regularisation speed
+//   offset                Rotational.Sources.ConstantTorque (tau_constant)
+//                         or Translational.Sources.ConstantForce
+//                         (f_constant), useSupport, between support and axis:
+//                         -offset - (coulomb - coulomb_negative)/2
 //   armature              Rotational Inertia (J) or Translational Mass (m) on
 //                         the axis
 // Limits have no MSL counterpart on a MultiBody joint: they become a note.

@@ -119,8 +119,9 @@ std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
         // URDF's dynamics: viscous damping (the motor's back-EMF braking
         // and the joint's own) and dry friction.
         const ResolvedJointDynamics* jd = u.spherical_axis < 0 ? model.joint_dynamics_of(u.source) : nullptr;
-        const double damping = (drive ? drive->servo.emf_damping : 0) + (jd ? jd->damping : 0);
-        const double friction = jd ? jd->coulomb : 0;
+        // Both are symmetric in URDF: the law's symmetric part (add_notes names the rest).
+        const double damping = (drive ? drive->servo.emf_damping : 0) + (jd ? jd->symmetric_damping() : 0);
+        const double friction = jd ? jd->symmetric_coulomb() : 0;
         if (damping > 0 || friction > 0) {
             pugi::xml_node dyn = xj.append_child("dynamics");
             if (damping > 0) set_number(dyn, "damping", damping);
@@ -154,6 +155,10 @@ void add_notes(ExportModel& model, const UrdfLayout& L) {
                 model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),
                            "URDF has no joint spring or armature: joint '" + joint.name + "' is written without " +
                                lost + " (its damping, friction and limits are written)");
+            if (const std::string beyond = joint_dynamics_beyond_symmetric(*jd); !beyond.empty())
+                model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),
+                           "URDF joint friction and damping are symmetric and it has no constant joint effort: joint '" +
+                               joint.name + "' is written without " + beyond);
         }
         if (u.default_range)
             model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model.joint_subject(u.source),

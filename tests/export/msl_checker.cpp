@@ -453,6 +453,11 @@ const std::map<std::pair<std::string, std::string>, std::string>& connector_tabl
         t[{analog + "Sources.SignalVoltage", "v"}] = kRealIn;
         t[{analog + "Sources.SignalCurrent", "i"}] = kRealIn;
         t[{analog + "Basic.RotationalEMF", "flange"}] = kRotB;
+        // Sources with a support flange (ConstantTorque, ConstantForce, ...).
+        t[{rot + "Interfaces.PartialElementaryOneFlangeAndSupport2", "flange"}] = kRotB;
+        t[{rot + "Interfaces.PartialElementaryOneFlangeAndSupport2", "support"}] = rot + "Interfaces.Support";
+        t[{trans + "Interfaces.PartialElementaryOneFlangeAndSupport2", "flange"}] = kTransB;
+        t[{trans + "Interfaces.PartialElementaryOneFlangeAndSupport2", "support"}] = trans + "Interfaces.Support";
         t[{analog + "Basic.Ground", "p"}] = analog + "Interfaces.Pin";
         for (const char* siso : {"Interfaces.SISO", "Math.Gain"}) {
             t[{blocks + siso, "u"}] = kRealIn;
@@ -472,10 +477,22 @@ const std::map<std::pair<std::string, std::string>, std::string>& connector_tabl
     return table;
 }
 
-// Conditional connectors exist only when a parameter enables them.
+// Conditional connectors exist only when a parameter enables them: the
+// support of a one-flange element with useSupport (looked up along the
+// component class's extends chain), a MultiBody joint's axis and support with
+// useAxisFlange.
 const std::map<std::string, std::string>& conditional_connectors() {
     static const std::map<std::string, std::string> c = {{"axis", "useAxisFlange"}, {"support", "useAxisFlange"}};
     return c;
+}
+
+std::string conditional_parameter(const Index& index, const std::string& cls, const std::string& element) {
+    for (const std::string& c : index.lineage(cls))
+        if (element == "support" && (c == "Modelica.Mechanics.Rotational.Interfaces.PartialElementaryOneFlangeAndSupport2" ||
+                                     c == "Modelica.Mechanics.Translational.Interfaces.PartialElementaryOneFlangeAndSupport2"))
+            return "useSupport";
+    const auto it = conditional_connectors().find(element);
+    return it != conditional_connectors().end() ? it->second : std::string();
 }
 
 bool is_keyword(const std::string& w) {
@@ -845,9 +862,9 @@ std::vector<std::string> check_model(const Index& index, const Model& model) {
             errors.push_back(ref + ": " + c.class_name + " declares no element " + element);
             return {};
         }
-        const auto cond = conditional_connectors().find(element);
-        if (cond != conditional_connectors().end() && (!c.modifier(cond->second) || !parse_bool(c.value(cond->second))))
-            errors.push_back(ref + " is connected but " + c.name + " does not set " + cond->second + " = true");
+        const std::string cond = conditional_parameter(index, c.class_name, element);
+        if (!cond.empty() && (!c.modifier(cond) || !parse_bool(c.value(cond))))
+            errors.push_back(ref + " is connected but " + c.name + " does not set " + cond + " = true");
         const std::string type = connector_class(index, c.class_name, element);
         if (type.empty()) {
             errors.push_back(ref + ": not a connector the checker knows");

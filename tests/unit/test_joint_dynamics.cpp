@@ -276,3 +276,71 @@ TEST_CASE("joint dynamics: resolution refuses joints that have no single coordin
     CHECK(mixed[0].armature == 2);
     CHECK(mixed[0].source == 1);
 }
+
+TEST_CASE("joint dynamics file: offset, asymmetric friction and Stribeck parse in SI and resolve to both directions") {
+    const Loaded l = load(description(
+        "<joint constraint=\"P1\" damping=\"3\" damping_negative=\"1.5\" coulomb=\"2\" coulomb_negative=\"0.5\" "
+        "stribeck=\"0.7\" stribeck_velocity=\"20\" offset=\"-3.16\" unit=\"mm\"/>\n"
+        "<joint constraint=\"R1\" coulomb=\"0.4\" offset=\"0.25\"/>\n"));
+    for (const DriveError& e : l.errors) FAIL_CHECK(e.text());
+    REQUIRE(l.spec.joint_dynamics.size() == 2);
+    const JointDynamicsSpec& p = l.spec.joint_dynamics[0];
+    REQUIRE(p.coulomb_negative.has_value());
+    REQUIRE(p.damping_negative.has_value());
+    CHECK(*p.coulomb_negative == 0.5);
+    CHECK(*p.damping_negative == 1.5);
+    CHECK(p.stribeck == 0.7);
+    CHECK(p.stribeck_velocity == doctest::Approx(0.02).epsilon(1e-15));  // 20 mm/s: speeds follow `unit`
+    CHECK(p.offset == -3.16);
+    const JointDynamicsSpec& r = l.spec.joint_dynamics[1];
+    CHECK_FALSE(r.coulomb_negative.has_value());
+    CHECK_FALSE(r.damping_negative.has_value());
+
+    std::vector<DriveError> errors;
+    const std::vector<ResolvedJointDynamics> out = resolve_joint_dynamics(l.spec, mechanism(), errors);
+    for (const DriveError& e : errors) FAIL_CHECK(e.text());
+    REQUIRE(out.size() == 2);
+    CHECK(out[0].coulomb == 2);
+    CHECK(out[0].coulomb_negative == 0.5);
+    CHECK(out[0].damping_negative == 1.5);
+    CHECK(out[0].offset == -3.16);
+    CHECK(out[0].asymmetric());
+    CHECK(out[0].symmetric_coulomb() == 1.25);
+    CHECK(out[0].symmetric_damping() == 2.25);
+    // Absent, the negative direction takes the positive one's values.
+    CHECK(out[1].coulomb_negative == 0.4);
+    CHECK(out[1].damping_negative == 0);
+    CHECK_FALSE(out[1].asymmetric());
+    CHECK(out[1].offset == 0.25);
+}
+
+TEST_CASE("joint dynamics file: bad offset, asymmetric or Stribeck values are errors with file and line") {
+    for (const char* name : {"coulomb_negative", "damping_negative", "stribeck", "stribeck_velocity"})
+        expect_file_errors("<joint constraint=\"R1\" " + std::string(name) + "=\"-1\"" +
+                               (std::string(name) == "stribeck_velocity" ? "" : " stribeck_velocity=\"1\"") + "/>",
+                           {std::string(name) + " must not be negative"});
+    expect_file_errors("<joint constraint=\"R1\" stribeck=\"0.5\"/>", {"stribeck needs a positive stribeck_velocity"});
+    expect_file_errors("<joint constraint=\"R1\" stribeck=\"0.5\" stribeck_velocity=\"0\"/>",
+                       {"stribeck needs a positive stribeck_velocity"});
+    expect_file_errors("<joint constraint=\"R1\" offset=\"inf\"/>", {"offset = 'inf' is not a number"});
+    expect_file_errors("<joint constraint=\"R1\" offset=\"nan\"/>", {"offset = 'nan' is not a number"});
+    // A negative offset is a load the other way, not an error.
+    const Loaded negative = load(description("<joint constraint=\"R1\" offset=\"-2\"/>\n"));
+    CHECK(negative.errors.empty());
+
+    // Through the C API's path (no file reader) resolution checks them again.
+    MechatronicSpec spec;
+    JointDynamicsSpec bad;
+    bad.joint.constraint_id = "R1";
+    bad.offset = INFINITY;
+    bad.coulomb_negative = -1;
+    bad.stribeck = 1;
+    spec.joint_dynamics.push_back(bad);
+    std::vector<DriveError> errors;
+    const auto out = resolve_joint_dynamics(spec, mechanism(), errors);
+    CHECK(out.empty());
+    REQUIRE(errors.size() == 3);
+    CHECK(errors[0].text().find("coulomb_negative of joint 'R1' must be finite and not negative") != std::string::npos);
+    CHECK(errors[1].text().find("joint 'R1': offset must be finite") != std::string::npos);
+    CHECK(errors[2].text().find("joint 'R1': stribeck needs a positive stribeck_velocity") != std::string::npos);
+}

@@ -29,7 +29,8 @@ const std::map<std::string, std::set<std::string>>& allowed_attributes() {
         {"motion", {"interpolation", "unit"}},
         {"point", {"t", "q"}},
         {"joint", {"constraint", "primitive", "damping", "coulomb", "coulomb_velocity", "stiffness", "rest", "armature",
-                   "lower", "upper", "unit"}},
+                   "lower", "upper", "unit", "offset", "coulomb_negative", "damping_negative", "stribeck",
+                   "stribeck_velocity"}},
     };
     return table;
 }
@@ -205,11 +206,17 @@ private:
         j.damping = number(n, "damping", 0, who);
         j.coulomb = number(n, "coulomb", 0, who);
         j.coulomb_velocity = number(n, "coulomb_velocity", 0, who) * factor;
+        if (n.attribute("coulomb_negative")) j.coulomb_negative = number(n, "coulomb_negative", 0, who);
+        if (n.attribute("damping_negative")) j.damping_negative = number(n, "damping_negative", 0, who);
+        j.stribeck = number(n, "stribeck", 0, who);
+        j.stribeck_velocity = number(n, "stribeck_velocity", 0, who) * factor;
+        j.offset = number(n, "offset", 0, who);
         j.stiffness = number(n, "stiffness", 0, who);
         j.armature = number(n, "armature", 0, who);
         j.rest = number(n, "rest", 0, who) * factor;
         for (const auto& [name, value] : joint_dynamics_coefficients(j))
             if (value < 0) error(n, who, std::string(name) + " must not be negative");
+        for (const std::string& problem : joint_dynamics_problems(j)) error(n, who, problem);
         const bool lower = bool(n.attribute("lower")), upper = bool(n.attribute("upper"));
         if (lower != upper) {
             error(n, who, std::string("a limit needs both lower and upper (") + (lower ? "upper" : "lower") + " is missing)");

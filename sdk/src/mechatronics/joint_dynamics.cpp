@@ -1,3 +1,4 @@
+#include <charconv>
 #include <cmath>
 
 #include "mechatronics/drive.h"
@@ -7,8 +8,53 @@
 namespace mbx {
 
 std::vector<std::pair<const char*, double>> joint_dynamics_coefficients(const JointDynamicsSpec& s) {
-    return {{"damping", s.damping},     {"coulomb", s.coulomb},     {"coulomb_velocity", s.coulomb_velocity},
-            {"stiffness", s.stiffness}, {"armature", s.armature}};
+    std::vector<std::pair<const char*, double>> out = {
+        {"damping", s.damping},     {"coulomb", s.coulomb},   {"coulomb_velocity", s.coulomb_velocity},
+        {"stiffness", s.stiffness}, {"armature", s.armature}, {"stribeck", s.stribeck},
+        {"stribeck_velocity", s.stribeck_velocity}};
+    if (s.coulomb_negative) out.emplace_back("coulomb_negative", *s.coulomb_negative);
+    if (s.damping_negative) out.emplace_back("damping_negative", *s.damping_negative);
+    return out;
+}
+
+std::vector<std::string> joint_dynamics_problems(const JointDynamicsSpec& s) {
+    std::vector<std::string> out;
+    if (!std::isfinite(s.offset)) out.push_back("offset must be finite");
+    // exp(-(qd/0)^2) is a peak of zero width: a static friction the sliding
+    // law never shows, which only the accurate mode would see.
+    if (s.stribeck > 0 && !(s.stribeck_velocity > 0))
+        out.push_back("stribeck needs a positive stribeck_velocity (the speed over which the peak decays)");
+    return out;
+}
+
+namespace {
+std::string shortest(double x) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, x);
+    return std::string(buf, r.ptr);
+}
+}  // namespace
+
+std::string joint_dynamics_beyond_symmetric(const ResolvedJointDynamics& r) {
+    const std::string effort = r.linear ? " N" : " N m", speed = r.linear ? " m/s" : " rad/s";
+    const std::string rate = r.linear ? " N s/m" : " N m s/rad";
+    std::vector<std::string> parts;
+    if (r.offset != 0) parts.push_back("the effort offset " + shortest(r.offset) + effort);
+    if (r.coulomb_negative != r.coulomb)
+        parts.push_back("the direction-dependent Coulomb friction " + shortest(r.coulomb) + " (q' > 0) / " +
+                        shortest(r.coulomb_negative) + " (q' < 0)" + effort + ", written as their mean " +
+                        shortest(r.symmetric_coulomb()));
+    if (r.damping_negative != r.damping)
+        parts.push_back("the direction-dependent damping " + shortest(r.damping) + " (q' > 0) / " +
+                        shortest(r.damping_negative) + " (q' < 0)" + rate + ", written as their mean " +
+                        shortest(r.symmetric_damping()));
+    if (r.stribeck > 0)
+        parts.push_back("the Stribeck peak " + shortest(r.stribeck) + effort + " over " + shortest(r.stribeck_velocity) +
+                        speed + " (the static friction is written at the sliding level)");
+    std::string out;
+    for (size_t k = 0; k < parts.size(); ++k)
+        out += (k == 0 ? "" : k + 1 == parts.size() ? " and " : ", ") + parts[k];
+    return out;
 }
 
 std::vector<ResolvedJointDynamics> resolve_joint_dynamics(const MechatronicSpec& spec, const Mechanism& m,
@@ -68,6 +114,10 @@ std::vector<ResolvedJointDynamics> resolve_joint_dynamics(const MechatronicSpec&
             error("rest of joint '" + joint.name + "' must be finite");
             good = false;
         }
+        for (const std::string& problem : joint_dynamics_problems(s)) {
+            error("joint '" + joint.name + "': " + problem);
+            good = false;
+        }
         if (s.limited && !(std::isfinite(s.lower) && std::isfinite(s.upper) && s.lower <= s.upper)) {
             error("limits of joint '" + joint.name + "' must be finite with lower <= upper");
             good = false;
@@ -86,6 +136,11 @@ std::vector<ResolvedJointDynamics> resolve_joint_dynamics(const MechatronicSpec&
         r.stiffness = s.stiffness;
         r.rest = s.rest;
         r.armature = s.armature;
+        r.damping_negative = s.damping_negative.value_or(s.damping);
+        r.coulomb_negative = s.coulomb_negative.value_or(s.coulomb);
+        r.stribeck = s.stribeck;
+        r.stribeck_velocity = s.stribeck_velocity;
+        r.offset = s.offset;
         r.limited = s.limited;
         r.lower = s.lower;
         r.upper = s.upper;

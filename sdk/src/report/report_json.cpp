@@ -22,7 +22,9 @@
 //     sample_period, delay}, motion {interpolation, points [[t, q]..]}}]
 //     (only when the mechanism has drives),
 //   joint_dynamics [{name, joint, constraint_id, primitive_index, linear,
-//     damping, coulomb, coulomb_velocity, stiffness, rest, armature,
+//     damping, coulomb, coulomb_velocity, damping_negative, coulomb_negative
+//     (equal to damping and coulomb when symmetric), stribeck,
+//     stribeck_velocity, offset, stiffness, rest, armature,
 //     limits {lower, upper} or null}] (only when there are any),
 //   findings [{severity, code, subject {kind, id, name}, message}]
 #include "report/json_writer.h"
@@ -282,6 +284,8 @@ void write_joint_dynamics(JsonWriter& w, const Mechanism& m, const std::vector<R
         w.member("constraint_id", m.assembly.constraints[static_cast<std::size_t>(j.constraint)].id);
         w.member("primitive_index", j.primitive_index).member("linear", d.linear);
         w.member("damping", d.damping).member("coulomb", d.coulomb).member("coulomb_velocity", d.coulomb_velocity);
+        w.member("damping_negative", d.damping_negative).member("coulomb_negative", d.coulomb_negative);
+        w.member("stribeck", d.stribeck).member("stribeck_velocity", d.stribeck_velocity).member("offset", d.offset);
         w.member("stiffness", d.stiffness).member("rest", d.rest).member("armature", d.armature);
         w.key("limits");
         if (d.limited)

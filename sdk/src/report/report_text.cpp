@@ -307,8 +307,17 @@ void write_joint_dynamics(Text& t, const std::vector<ResolvedJointDynamics>& all
     t.raw("Joint dynamics (").num(static_cast<long long>(all.size())).raw(")").end_line();
     for (const ResolvedJointDynamics& d : all) {
         const char* rate = d.linear ? " N s/m" : " N m s/rad";
-        t.raw("  ").quoted(d.name).raw(": damping ").real(d.damping).raw(rate).raw(", Coulomb ").real(d.coulomb);
-        t.raw(d.linear ? " N" : " N m").raw(", spring ").real(d.stiffness).raw(d.linear ? " N/m" : " N m/rad");
+        const char* effort = d.linear ? " N" : " N m";
+        t.raw("  ").quoted(d.name).raw(": damping ").real(d.damping);
+        if (d.damping_negative != d.damping) t.raw(" (q' > 0) / ").real(d.damping_negative).raw(" (q' < 0)");
+        t.raw(rate).raw(", Coulomb ").real(d.coulomb);
+        if (d.coulomb_negative != d.coulomb) t.raw(" (q' > 0) / ").real(d.coulomb_negative).raw(" (q' < 0)");
+        t.raw(effort);
+        if (d.stribeck > 0)
+            t.raw(", Stribeck peak ").real(d.stribeck).raw(effort).raw(" over ").real(d.stribeck_velocity)
+                .raw(d.linear ? " m/s" : " rad/s");
+        if (d.offset != 0) t.raw(", effort offset ").real(d.offset).raw(effort);
+        t.raw(", spring ").real(d.stiffness).raw(d.linear ? " N/m" : " N m/rad");
         t.raw(" about ").real(d.rest).raw(", armature ").real(d.armature).raw(d.linear ? " kg" : " kg m^2");
         if (d.limited) t.raw(", limits ").real(d.lower).raw(" .. ").real(d.upper);
         t.end_wrapped(4);
