@@ -34,6 +34,14 @@ typedef char check_joint_dynamics_first[(offsetof(mbx_joint_dynamics_desc, struc
 typedef char check_fixed_value_layout[(offsetof(mbx_sim_fixed_value, value) == 3 * sizeof(uint32_t) + 4) ? 1 : -1];
 typedef char check_api_grows_6[(offsetof(mbx_api, sim_run) > offsetof(mbx_api, mechanism_drive_target)) ? 1 : -1];
 
+/* ABI 7: mbx_joint_dynamics_desc grew at its end (offset ... asymmetric);
+ * an ABI 6 caller's struct ends before offset. */
+typedef char check_abi_7[(MBX_ABI_VERSION >= 7u) ? 1 : -1];
+typedef char check_joint_dynamics_grows[(offsetof(mbx_joint_dynamics_desc, offset) >=
+                                         offsetof(mbx_joint_dynamics_desc, upper) + sizeof(double)) ? 1 : -1];
+typedef char check_joint_dynamics_last[(offsetof(mbx_joint_dynamics_desc, asymmetric) >
+                                        offsetof(mbx_joint_dynamics_desc, stribeck_velocity)) ? 1 : -1];
+
 /* A one-motor library, as a C host might hold it in memory. */
 static const char *const k_library =
     "<object_library version=\"1\"><object_folder name=\"Motors\">"
@@ -182,6 +190,20 @@ static int check_simulation(const mbx_api *api, mbx_context *context) {
     dynamics.upper = 2.0;
     if (api->mechatronics_set_joint_dynamics(context, mechatronics, &dynamics) != MBX_OK) {
         fprintf(stderr, "set_joint_dynamics: %s\n", api->context_last_error(context));
+        ++failures;
+    }
+    /* ABI 7 fields: a Stribeck peak needs its decay speed. */
+    dynamics.offset = -3.16;
+    dynamics.asymmetric = 1;
+    dynamics.coulomb_negative = 0.5;
+    dynamics.stribeck = 0.2;
+    if (api->mechatronics_set_joint_dynamics(context, mechatronics, &dynamics) != MBX_ERROR_INVALID_INPUT) {
+        fprintf(stderr, "a Stribeck peak without stribeck_velocity was accepted\n");
+        ++failures;
+    }
+    dynamics.stribeck_velocity = 0.01;
+    if (api->mechatronics_set_joint_dynamics(context, mechatronics, &dynamics) != MBX_OK) {
+        fprintf(stderr, "set_joint_dynamics (ABI 7 fields): %s\n", api->context_last_error(context));
         ++failures;
     }
     api->mechatronics_destroy(mechatronics);

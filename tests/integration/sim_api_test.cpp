@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -206,6 +207,71 @@ TEST_CASE("sim API: joint dynamics set by the host damp the pendulum at b / (2 I
     REQUIRE(peaks.size() == 4);
     const double measured = std::log(peaks[0].second / peaks[3].second) / (peaks[3].first - peaks[0].first);
     CHECK(measured == doctest::Approx(rate).epsilon(2e-3));  // peak sampling at 1 ms
+}
+
+TEST_CASE("sim API: ABI 7 joint dynamics (offset, asymmetric Coulomb) act as -offset and c+ / c-; ABI 6 callers keep the old law") {
+    // The hanging pendulum at rest at q = 0 feels no gravity torque: the
+    // joint acceleration is the joint dynamics' effort over the pivot inertia.
+    const Pendulum p;
+    const mbx_api& a = api();
+    REQUIRE(a.abi_version >= 7u);
+    const double offset = 0.3, cp = 0.5, cn = 0.2;
+    auto qacc_at = [&](uint32_t struct_size, double qd) {
+        Run run = translate(p.assembly());
+        mbx_context* ctx = run.context.get();
+        mbx_mechatronics* mech = nullptr;
+        REQUIRE(a.mechatronics_create(ctx, &mech) == MBX_OK);
+        mbx_joint_dynamics_desc jd;
+        std::memset(&jd, 0, sizeof jd);
+        jd.struct_size = struct_size;
+        jd.constraint_id = "pendulum/hinge";
+        jd.primitive_index = -1;
+        jd.coulomb = cp;
+        jd.coulomb_velocity = 1e-3;
+        // Beyond an ABI 6 caller's struct_size these are not its fields.
+        jd.offset = offset;
+        jd.coulomb_negative = cn;
+        jd.asymmetric = 1;
+        REQUIRE(a.mechatronics_set_joint_dynamics(ctx, mech, &jd) == MBX_OK);
+        REQUIRE(a.mechanism_set_mechatronics(ctx, run.get(), mech) == MBX_OK);
+        a.mechatronics_destroy(mech);
+        SimHandles s;
+        make_sim(run, s);
+        const double q = 0;
+        REQUIRE(a.sim_set_state(ctx, s.data, 0, &q, &qd) == MBX_OK);
+        double qacc = 0;
+        REQUIRE(a.sim_forward_dynamics(ctx, s.data, &qacc) == MBX_OK);
+        return qacc;
+    };
+    const double I = p.pivot_inertia();
+    const uint32_t v6 = uint32_t(offsetof(mbx_joint_dynamics_desc, offset));
+    CHECK(qacc_at(sizeof(mbx_joint_dynamics_desc), 2.0) == doctest::Approx((-offset - cp) / I).epsilon(1e-9));
+    CHECK(qacc_at(sizeof(mbx_joint_dynamics_desc), -2.0) == doctest::Approx((-offset + cn) / I).epsilon(1e-9));
+    CHECK(qacc_at(v6, 2.0) == doctest::Approx(-cp / I).epsilon(1e-9));
+    CHECK(qacc_at(v6, -2.0) == doctest::Approx(cp / I).epsilon(1e-9));
+
+    // A Stribeck peak without its decay speed is refused, naming it.
+    Run run = translate(p.assembly());
+    mbx_context* ctx = run.context.get();
+    mbx_mechatronics* mech = nullptr;
+    REQUIRE(a.mechatronics_create(ctx, &mech) == MBX_OK);
+    mbx_joint_dynamics_desc bad{};
+    bad.struct_size = sizeof bad;
+    bad.constraint_id = "pendulum/hinge";
+    bad.primitive_index = -1;
+    bad.stribeck = 0.1;
+    CHECK(a.mechatronics_set_joint_dynamics(ctx, mech, &bad) == MBX_ERROR_INVALID_INPUT);
+    CHECK(std::string(a.context_last_error(ctx)).find("stribeck_velocity") != std::string::npos);
+    bad.stribeck = 0;
+    bad.offset = NAN;
+    CHECK(a.mechatronics_set_joint_dynamics(ctx, mech, &bad) == MBX_ERROR_INVALID_INPUT);
+    CHECK(std::string(a.context_last_error(ctx)).find("offset must be finite") != std::string::npos);
+    bad.offset = 0;
+    bad.asymmetric = 1;
+    bad.damping_negative = -1;
+    CHECK(a.mechatronics_set_joint_dynamics(ctx, mech, &bad) == MBX_ERROR_INVALID_INPUT);
+    CHECK(std::string(a.context_last_error(ctx)).find("damping_negative") != std::string::npos);
+    a.mechatronics_destroy(mech);
 }
 
 TEST_CASE("sim API: a run writes trajectory.csv and simulation.json; a failed one writes nothing") {

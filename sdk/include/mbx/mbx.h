@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 6u
+#define MBX_ABI_VERSION 7u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -662,7 +662,7 @@ MBX_API mbx_status mbx_mechatronics_set_motion(mbx_context *context, mbx_mechatr
                                                mbx_interpolation interpolation);
 MBX_API uint32_t mbx_mechatronics_drive_count(const mbx_mechatronics *mechatronics);
 
-/* Joint dynamics of one revolute or prismatic joint (ABI 6), SI: what the
+/* Joint dynamics of one revolute or prismatic joint (ABI 6, grown in 7), SI: what the
  * description file's <joint> element holds (docs/mechatronics.md). They act
  * in the simulator and every export carries them. */
 typedef struct mbx_joint_dynamics_desc {
@@ -677,6 +677,13 @@ typedef struct mbx_joint_dynamics_desc {
     double armature;            /* kg m^2 or kg, added to the joint's inertia (and to a drive's) */
     int32_t limited;            /* 1: lower/upper replace the CAD joint's limits */
     double lower, upper;        /* rad or m */
+    /* --- ABI 7 --- */
+    double offset;              /* N m or N, any sign: constant effort the actuator supplies; acts as -offset */
+    double coulomb_negative;    /* with asymmetric = 1: Coulomb friction for q' < 0 (coulomb holds for q' > 0) */
+    double damping_negative;    /* with asymmetric = 1: damping for q' < 0 (damping holds for q' > 0) */
+    double stribeck;            /* N m or N: static friction above the Coulomb level */
+    double stribeck_velocity;   /* rad/s or m/s: its decay speed, > 0 when stribeck > 0 */
+    int32_t asymmetric;         /* 1: coulomb_negative and damping_negative apply; 0 (a zeroed struct): symmetric */
 } mbx_joint_dynamics_desc;
 
 /* Sets the joint dynamics of (constraint_id, primitive_index), replacing

@@ -202,11 +202,20 @@ MBX_API mbx_status mbx_mechatronics_set_joint_dynamics(mbx_context* context, mbx
         spec.damping = d.damping, spec.coulomb = d.coulomb, spec.coulomb_velocity = d.coulomb_velocity;
         spec.stiffness = d.stiffness, spec.rest = d.rest, spec.armature = d.armature;
         spec.limited = d.limited != 0, spec.lower = d.lower, spec.upper = d.upper;
+        // A caller built against ABI 6 declares a struct_size that ends
+        // before these: the memcpy above left them zero, the old symmetric law.
+        if (MBX_FIELD_FITS(&d, mbx_joint_dynamics_desc, asymmetric) && d.asymmetric != 0) {
+            spec.coulomb_negative = d.coulomb_negative;
+            spec.damping_negative = d.damping_negative;
+        }
+        spec.offset = d.offset, spec.stribeck = d.stribeck, spec.stribeck_velocity = d.stribeck_velocity;
         const Subject joint = Subject::constraint(id, "");
         for (const auto& [name, value] : joint_dynamics_coefficients(spec))
             if (!std::isfinite(value) || value < 0)
                 throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': " + name + " must be finite and not negative");
         if (!std::isfinite(spec.rest)) throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': rest is not finite");
+        for (const std::string& problem : joint_dynamics_problems(spec))
+            throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': " + problem);
         if (spec.limited && !(std::isfinite(spec.lower) && std::isfinite(spec.upper) && spec.lower <= spec.upper))
             throw Error(MBX_ERROR_INVALID_INPUT, joint, "joint dynamics of '" + id + "': limits need finite lower <= upper");
         for (JointDynamicsSpec& existing : m->spec.joint_dynamics)
