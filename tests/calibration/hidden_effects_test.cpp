@@ -1,0 +1,502 @@
+// The hidden-effect generator against physics: along the motion MuJoCo
+// produced, mbx's own inverse dynamics (sim::build_model of the same
+// translation, an engine independent of MuJoCo's) must explain the recorded
+// effort of a clean case to within the noise, and the difference for a case
+// with an effect must be that effect with its hidden magnitude. Plus the
+// files: they parse, reference what exists, and repeat byte for byte.
+#include <doctest/doctest.h>
+
+#include <pugixml.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "hidden_effects.h"
+#include "sim/build_model.h"
+#include "sim/dynamics.h"
+#include "sim/loop_closure.h"
+#include "sim/simulation.h"
+#include "temp_dir.h"
+
+using namespace mbx;
+using mbx_test::CaseSpec;
+using mbx_test::EffectSpec;
+using mbx_test::GeneratedCase;
+using mbx_test::TrueMotion;
+
+namespace {
+
+struct Run {
+    GeneratedCase c;
+    std::vector<TrueMotion> motion;
+};
+
+Run run(const std::string& mechanism, std::vector<EffectSpec> effects, const mbx_test::TempDir& dir, unsigned seed = 7,
+        const std::string& name = "case") {
+    CaseSpec s;
+    s.name = name;
+    s.mechanism = mechanism;
+    s.effects = std::move(effects);
+    s.seed = seed;
+    s.fit_seconds = 6;
+    s.validation_seconds = 3;
+    Run r;
+    r.c = mbx_test::generate_case(s, dir.file(name), &r.motion);
+    return r;
+}
+
+// The actuated joints' efforts that produce the recorded motion in `model`
+// (samples x actuated). For a loop, the tree's inverse dynamics projected on
+// the closure Jacobian's null space: constraint forces do no work along it.
+Eigen::MatrixXd inverse_dynamics_along(const sim::Model& model, const TrueMotion& tm) {
+    const Eigen::Index n = Eigen::Index(tm.t.size());
+    const Eigen::Index na = Eigen::Index(tm.actuated_dof.size());
+    Eigen::MatrixXd out(n, na);
+    sim::Data d(model);
+    Eigen::VectorXd qacc(model.nv), tau(model.nv);
+    for (Eigen::Index k = 0; k < n; ++k) {
+        for (const auto& j : model.joints)
+            if (j.nv() == 1) d.q[j.q_index] = tm.q(k, j.v_index);
+        d.v = tm.v.row(k).transpose();
+        qacc = tm.a.row(k).transpose();
+        sim::update_kinematics(model, d);
+        sim::inverse_dynamics(model, d, qacc, tau);
+        if (model.closures.empty()) {
+            for (Eigen::Index i = 0; i < na; ++i) out(k, i) = tau[tm.actuated_dof[size_t(i)]];
+            continue;
+        }
+        sim::update_closure_jacobian(model, d);
+        Eigen::JacobiSVD<Eigen::MatrixXd> svd(d.J, Eigen::ComputeFullV);
+        const Eigen::VectorXd& sv = svd.singularValues();
+        int rank = 0;
+        for (Eigen::Index i = 0; i < sv.size(); ++i) rank += sv[i] > 1e-8 * sv[0];
+        const Eigen::MatrixXd N = svd.matrixV().rightCols(model.nv - rank);
+        Eigen::MatrixXd B = Eigen::MatrixXd::Zero(model.nv, na);
+        for (Eigen::Index i = 0; i < na; ++i) B(tm.actuated_dof[size_t(i)], i) = 1;
+        out.row(k) = (N.transpose() * B).colPivHouseholderQr().solve(N.transpose() * tau).transpose();
+    }
+    return out;
+}
+
+double rms(const Eigen::VectorXd& x) { return std::sqrt(x.squaredNorm() / double(x.size())); }
+
+// Least squares of y on the columns of X.
+Eigen::VectorXd regress(const Eigen::MatrixXd& X, const Eigen::VectorXd& y) { return X.colPivHouseholderQr().solve(y); }
+
+struct Csv {
+    std::vector<std::string> header;
+    std::vector<std::vector<double>> rows;
+};
+
+std::string read_text(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+// Strict: every cell a finite number, every row as wide as the header (one
+// REQUIRE per file, not per cell, so the tests stay fast under sanitizers).
+Csv read_csv(const std::string& path) {
+    Csv c;
+    std::istringstream in(read_text(path));
+    std::string line;
+    REQUIRE(std::getline(in, line));
+    std::stringstream h(line);
+    for (std::string cell; std::getline(h, cell, ',');) c.header.push_back(cell);
+    int number = 1;
+    std::string problem;
+    while (std::getline(in, line) && problem.empty()) {
+        ++number;
+        std::vector<double> row;
+        std::stringstream s(line);
+        for (std::string cell; std::getline(s, cell, ',');) {
+            char* end = nullptr;
+            const double x = std::strtod(cell.c_str(), &end);
+            if (end != cell.c_str() + cell.size() || cell.empty() || !std::isfinite(x))
+                problem = path + ":" + std::to_string(number) + ": bad cell '" + cell + "'";
+            row.push_back(x);
+        }
+        if (row.size() != c.header.size()) problem = path + ":" + std::to_string(number) + ": wrong column count";
+        c.rows.push_back(row);
+    }
+    INFO(problem);
+    REQUIRE(problem.empty());
+    return c;
+}
+
+// The recorded effort column of actuated joint i.
+Eigen::VectorXd recorded_effort(const GeneratedCase& c, size_t i, bool fit = true) {
+    const Csv csv = read_csv(fit ? c.fit_csv : c.validation_csv);
+    size_t col = 0;
+    while (col < csv.header.size() && csv.header[col] != c.column_stems[i] + ".effort") ++col;
+    REQUIRE(col < csv.header.size());
+    Eigen::VectorXd e(Eigen::Index(csv.rows.size()));
+    for (size_t k = 0; k < csv.rows.size(); ++k) e[Eigen::Index(k)] = csv.rows[k][col];
+    return e;
+}
+
+const sim::Model& model_of(const std::string& mechanism) {
+    static std::map<std::string, sim::Model> models;
+    auto it = models.find(mechanism);
+    if (it == models.end()) {
+        auto t = mbx_test::open_mechanism(mechanism);
+        it = models.emplace(mechanism, sim::build_model(*t->mechanism)).first;
+    }
+    return it->second;
+}
+
+// Speed reversals of a velocity record (sign changes beyond a small band).
+int reversals(const Eigen::VectorXd& v) {
+    const double band = 0.02 * v.cwiseAbs().maxCoeff();
+    int n = 0, sign = 0;
+    for (Eigen::Index k = 0; k < v.size(); ++k) {
+        const int s = v[k] > band ? 1 : v[k] < -band ? -1 : 0;
+        if (s && sign && s != sign) ++n;
+        if (s) sign = s;
+    }
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("hidden effects: clean records equal mbx's inverse dynamics along MuJoCo's motion") {
+    mbx_test::TempDir dir("mbx_hidden_clean");
+    for (const std::string mech : {"emps_axis", "two_link_arm", "fourbar"}) {
+        CAPTURE(mech);
+        const Run r = run(mech, {}, dir, 7, mech);
+        REQUIRE(r.motion.size() == 2);
+        const sim::Model& model = model_of(mech);
+        for (int rec = 0; rec < 2; ++rec) {
+            CAPTURE(rec);
+            const TrueMotion& tm = r.motion[size_t(rec)];
+            const Eigen::MatrixXd id = inverse_dynamics_along(model, tm);
+            for (size_t i = 0; i < r.c.joint_names.size(); ++i) {
+                CAPTURE(r.c.joint_names[i]);
+                const Eigen::VectorXd u = tm.commanded.col(Eigen::Index(i));
+                const Eigen::VectorXd e = recorded_effort(r.c, i, rec == 0);
+                const double model_error = rms(u - id.col(Eigen::Index(i))) / rms(u);
+                const double noise = rms(e - u) / rms(u);
+                const Eigen::VectorXd v = tm.v.col(tm.actuated_dof[i]);
+                MESSAGE(mech << " " << r.c.joint_names[i] << " rec " << rec << ": effort RMS " << rms(u) << ", |ID - commanded| "
+                             << 100 * model_error << " %, noise " << 100 * noise << " %, speed RMS " << rms(v)
+                             << ", reversals " << reversals(v) << ", accel RMS " << rms(tm.a.col(tm.actuated_dof[i])));
+                // MuJoCo and mbx agree far below the noise (the loop: MuJoCo's soft closure).
+                CHECK(model_error < (model.closures.empty() ? 1e-6 : 2e-3));
+                CHECK(noise == doctest::Approx(0.015).epsilon(0.15));
+                CHECK(rms(e - id.col(Eigen::Index(i))) / rms(u) < 0.02);
+                // Rich excitation: many reversals.
+                CHECK(reversals(v) >= (rec == 0 ? 12 : 6));
+            }
+        }
+    }
+}
+
+namespace {
+
+// Along a case's fit record, for actuated joint i: the recorded (noisy)
+// effort minus the nominal model's inverse dynamics, and the true motion.
+struct Residual {
+    Eigen::VectorXd r, q, v, a, u, id;
+    double rms_effort = 0;
+};
+
+Residual residual_of(const Run& run, size_t i) {
+    const TrueMotion& tm = run.motion[0];
+    const Eigen::MatrixXd id = inverse_dynamics_along(model_of(run.c.mechanism), tm);
+    Residual r;
+    r.u = recorded_effort(run.c, i);
+    r.id = id.col(Eigen::Index(i));
+    r.r = r.u - r.id;
+    const int dof = tm.actuated_dof[i];
+    r.q = tm.q.col(dof), r.v = tm.v.col(dof), r.a = tm.a.col(dof);
+    r.rms_effort = rms(r.u);
+    return r;
+}
+
+Eigen::MatrixXd columns(std::initializer_list<Eigen::VectorXd> cols) {
+    Eigen::MatrixXd X(cols.begin()->size(), Eigen::Index(cols.size()));
+    Eigen::Index k = 0;
+    for (const auto& c : cols) X.col(k++) = c;
+    return X;
+}
+
+size_t actuated_index(const GeneratedCase& c, const mbx_test::HiddenEffect& h) {
+    for (size_t i = 0; i < c.joint_ids.size(); ++i)
+        if (c.joint_ids[i] == h.joint_id) return i;
+    FAIL("effect on a joint that is not actuated: " << h.joint_id);
+    return 0;
+}
+
+Eigen::VectorXd smooth_sign(const Eigen::VectorXd& v, double vs) {
+    return v.unaryExpr([vs](double x) { return std::tanh(x / vs); });
+}
+
+}  // namespace
+
+// Causes MuJoCo expresses itself: the recorded effort minus mbx's inverse
+// dynamics of the nominal model is the effect, with the hidden magnitude.
+TEST_CASE("hidden effects: MuJoCo's damping, friction loss and armature show with their hidden values") {
+    mbx_test::TempDir dir("mbx_hidden_mujoco");
+    struct Item {
+        std::string mechanism, cause, subject;
+        double low, high;
+    };
+    const std::vector<Item> items = {
+        {"emps_axis", "viscous_friction", "40:-:41", 20, 60},
+        {"two_link_arm", "viscous_friction", "two_link_arm/elbow", 0.1, 0.4},
+        {"fourbar", "viscous_friction", "fourbar/rev_A", 1.2e-4, 3.5e-4},
+        {"emps_axis", "coulomb_friction", "40:-:41", 1, 3},
+        {"two_link_arm", "coulomb_friction", "two_link_arm/shoulder", 0.3, 1.0},
+        {"emps_axis", "armature", "40:-:41", 2, 5},
+        {"two_link_arm", "armature", "two_link_arm/shoulder", 0.03, 0.1},
+        {"fourbar", "armature", "fourbar/rev_A", 1e-5, 3e-5},
+    };
+    int n = 0;
+    for (const Item& it : items) {
+        CAPTURE(it.mechanism);
+        CAPTURE(it.cause);
+        const Run r = run(it.mechanism, {{it.cause, it.subject, it.low, it.high}}, dir, 11, "c" + std::to_string(n++));
+        REQUIRE(r.c.hidden.size() == 1);
+        const auto& h = r.c.hidden[0];
+        CHECK(h.cause == it.cause);
+        const size_t i = actuated_index(r.c, h);
+        const Residual res = residual_of(r, i);
+        double truth = 0, estimate = 0;
+        if (it.cause == "viscous_friction") {
+            truth = h.parameter("damping");
+            estimate = regress(columns({res.v}), res.r)[0];
+        } else if (it.cause == "coulomb_friction") {
+            // Sliding samples only: MuJoCo's friction constraint is soft within a few steps of a reversal.
+            truth = h.parameter("coulomb");
+            const double band = 0.05 * res.v.cwiseAbs().maxCoeff();
+            std::vector<double> ys, ss;
+            for (Eigen::Index k = 0; k < res.v.size(); ++k)
+                if (std::fabs(res.v[k]) > band) ys.push_back(res.r[k]), ss.push_back(res.v[k] > 0 ? 1 : -1);
+            estimate = regress(Eigen::Map<Eigen::VectorXd>(ss.data(), Eigen::Index(ss.size())),
+                               Eigen::Map<Eigen::VectorXd>(ys.data(), Eigen::Index(ys.size())))[0];
+        } else {
+            truth = h.parameter("armature");
+            estimate = regress(columns({res.a}), res.r)[0];
+        }
+        MESSAGE(it.mechanism << " " << it.cause << ": hidden " << truth << ", regressed " << estimate
+                             << ", effect RMS / effort RMS " << rms(res.r) / res.rms_effort);
+        CHECK(truth >= it.low);
+        CHECK(truth <= it.high);
+        CHECK(estimate == doctest::Approx(truth).epsilon(0.05));
+    }
+}
+
+TEST_CASE("hidden effects: a changed body mass is MuJoCo's, seen by mbx's inverse dynamics of the changed body") {
+    mbx_test::TempDir dir("mbx_hidden_mass");
+    for (const auto& [mech, body] : std::vector<std::pair<std::string, std::string>>{
+             {"two_link_arm", "two_link_arm/forearm"}, {"fourbar", "fourbar/coupler"}}) {
+        CAPTURE(mech);
+        const Run r = run(mech, {{"mass_error", body, 0.2, 0.5}}, dir, 5, mech);
+        const auto& h = r.c.hidden.at(0);
+        CHECK(h.body_id == body);
+        const double change = h.parameter("relative_mass_change");
+        sim::Model changed = model_of(mech);
+        int b = -1;
+        for (size_t k = 0; k < changed.bodies.size(); ++k)
+            if (changed.bodies[k].id == body) b = int(k);
+        REQUIRE(b > 0);
+        auto& in = changed.bodies[size_t(b)].inertia;
+        in.mass *= 1 + change, in.h *= 1 + change, in.I *= 1 + change;
+        CHECK(in.mass == doctest::Approx(h.parameter("mass")));
+        const Eigen::MatrixXd nominal = inverse_dynamics_along(model_of(mech), r.motion[0]);
+        const Eigen::MatrixXd right = inverse_dynamics_along(changed, r.motion[0]);
+        for (size_t i = 0; i < r.c.joint_ids.size(); ++i) {
+            const Eigen::VectorXd u = r.motion[0].commanded.col(Eigen::Index(i));
+            const double with_change = rms(u - right.col(Eigen::Index(i))) / rms(u);
+            const double without = rms(u - nominal.col(Eigen::Index(i))) / rms(u);
+            MESSAGE(mech << " joint " << r.c.joint_names[i] << ": mass change " << change << ", error nominal " << without
+                         << ", changed " << with_change);
+            CHECK(with_change < 1e-6 * (mech == "fourbar" ? 1e3 : 1));
+            CHECK(without > 0.03);
+        }
+    }
+}
+
+// Causes made around MuJoCo: the recorded effort and position against
+// mbx's inverse dynamics along MuJoCo's motion.
+TEST_CASE("hidden effects: effects added by the generator act on MuJoCo's motion with their hidden values") {
+    mbx_test::TempDir dir("mbx_hidden_generator");
+    const std::string S = "two_link_arm/shoulder", E = "two_link_arm/elbow", P = "40:-:41";
+
+    SUBCASE("effort offset: recorded = inverse dynamics - offset") {
+        const Run r = run("two_link_arm", {{"effort_offset", S, 0.3, 1.0}}, dir);
+        const Residual res = residual_of(r, 0);
+        CHECK(-res.r.mean() == doctest::Approx(r.c.hidden[0].parameter("offset")).epsilon(0.02));
+        const Residual other = residual_of(r, 1);
+        CHECK(std::fabs(other.r.mean()) < 0.005 * other.rms_effort);
+    }
+    SUBCASE("actuator gain: gain * recorded = inverse dynamics") {
+        const Run r = run("emps_axis", {{"actuator_gain", P, 0.7, 0.9}}, dir);
+        const Residual res = residual_of(r, 0);
+        CHECK(regress(columns({res.u}), res.id)[0] == doctest::Approx(r.c.hidden[0].parameter("gain")).epsilon(0.01));
+    }
+    SUBCASE("delay: inverse dynamics at t = recorded effort at t - delay") {
+        const Run r = run("two_link_arm", {{"delay", S, 0.004, 0.012}}, dir);
+        const double delay = r.c.hidden[0].parameter("delay");
+        const TrueMotion& tm = r.motion[0];
+        const Eigen::MatrixXd id = inverse_dynamics_along(model_of("two_link_arm"), tm);
+        const double dt = tm.t[1] - tm.t[0];
+        double shifted = 0, unshifted = 0, norm = 0;
+        for (size_t k = 100; k < tm.t.size(); ++k) {
+            const double back = double(k) - delay / dt;
+            const size_t k0 = size_t(std::floor(back));
+            const double w = back - double(k0);
+            const double u = (1 - w) * tm.commanded(Eigen::Index(k0), 0) + w * tm.commanded(Eigen::Index(k0 + 1), 0);
+            shifted += std::pow(id(Eigen::Index(k), 0) - u, 2);
+            unshifted += std::pow(id(Eigen::Index(k), 0) - tm.commanded(Eigen::Index(k), 0), 2);
+            norm += std::pow(id(Eigen::Index(k), 0), 2);
+        }
+        MESSAGE("delay " << delay << ": error shifted " << std::sqrt(shifted / norm) << ", unshifted " << std::sqrt(unshifted / norm));
+        CHECK(std::sqrt(shifted / norm) < 2e-3);
+        CHECK(std::sqrt(unshifted / norm) > 0.03);
+    }
+    SUBCASE("sensor offset: recorded position = true position + offset, efforts unchanged") {
+        const Run r = run("two_link_arm", {{"sensor_offset", E, -0.1, -0.05}}, dir);
+        const double offset = r.c.hidden[0].parameter("offset");
+        const Csv csv = read_csv(r.c.fit_csv);
+        REQUIRE(csv.header[3] == "elbow.q");
+        const TrueMotion& tm = r.motion[0];
+        const int dof = tm.actuated_dof[1];
+        double worst = 0;
+        for (size_t k = 0; k < csv.rows.size(); ++k)
+            worst = std::max(worst, std::fabs(csv.rows[k][3] - tm.q(Eigen::Index(k), dof) - offset));
+        CHECK(worst <= 0.5 * 2 * M_PI / 40000 + 1e-12);
+        const Residual res = residual_of(r, 1);
+        CHECK(rms(res.r) < 0.02 * res.rms_effort);  // only noise
+    }
+    SUBCASE("asymmetric friction: c tanh(v/vs) + dc |tanh(v/vs)|") {
+        const Run r = run("emps_axis", {{"asymmetric_friction", P, 1, 3}}, dir);
+        const auto& h = r.c.hidden[0];
+        const Residual res = residual_of(r, 0);
+        const Eigen::VectorXd s = smooth_sign(res.v, h.parameter("smoothing_velocity"));
+        const Eigen::VectorXd p = regress(columns({s, s.cwiseAbs()}), res.r);
+        CHECK(p[0] == doctest::Approx(h.parameter("coulomb")).epsilon(0.02));
+        CHECK(p[1] == doctest::Approx(h.parameter("coulomb_asymmetry")).epsilon(0.03));
+        CHECK(h.parameter("coulomb_positive") > h.parameter("coulomb_negative"));
+    }
+    SUBCASE("Stribeck friction") {
+        const Run r = run("two_link_arm", {{"stribeck_friction", E, 0.1, 0.3}}, dir);
+        const auto& h = r.c.hidden[0];
+        const Residual res = residual_of(r, 1);
+        const double vst = h.parameter("stribeck_velocity");
+        Eigen::VectorXd col = smooth_sign(res.v, h.parameter("smoothing_velocity"));
+        for (Eigen::Index k = 0; k < col.size(); ++k) col[k] *= std::exp(-std::pow(res.v[k] / vst, 2));
+        CHECK(regress(columns({col}), res.r)[0] == doctest::Approx(h.parameter("stribeck")).epsilon(0.03));
+    }
+    SUBCASE("position-dependent effort: a spring k q") {
+        const Run r = run("emps_axis", {{"position_dependent_effort", P, 60, 200}}, dir);
+        const Residual res = residual_of(r, 0);
+        CHECK(regress(columns({res.q}), res.r)[0] == doctest::Approx(r.c.hidden[0].parameter("stiffness")).epsilon(0.02));
+    }
+}
+
+TEST_CASE("hidden effects: files parse and the experiment names existing files and columns") {
+    mbx_test::TempDir dir("mbx_hidden_files");
+    for (const std::string mech : {"emps_axis", "two_link_arm", "fourbar"}) {
+        CAPTURE(mech);
+        const Run r = run(mech, {}, dir, 3, mech);
+        pugi::xml_document doc;
+        REQUIRE(doc.load_file(r.c.experiment_path.c_str()));
+        const pugi::xml_node e = doc.child("experiment");
+        REQUIRE(e);
+        CHECK(std::string(e.attribute("version").value()) == "1");
+        CHECK(std::string(e.child("drive").attribute("mode").value()) == "effort");
+        const std::string time = e.child("time").attribute("column").value();
+        std::set<std::string> roles;
+        for (pugi::xml_node rec : e.children("record")) {
+            const std::filesystem::path path =
+                std::filesystem::path(r.c.experiment_path).parent_path() / rec.attribute("file").value();
+            REQUIRE(std::filesystem::exists(path));
+            roles.insert(rec.attribute("role").value());
+            const Csv csv = read_csv(path.string());
+            CHECK(csv.rows.size() >= 3000);
+            REQUIRE(csv.header.at(0) == time);
+            CHECK(csv.header.size() == 1 + 2 * r.c.joint_ids.size());
+            for (pugi::xml_node c : e.children("column")) {
+                CHECK(std::find(csv.header.begin(), csv.header.end(), std::string(c.attribute("name").value())) !=
+                      csv.header.end());
+                CHECK(std::find(r.c.joint_ids.begin(), r.c.joint_ids.end(), std::string(c.attribute("joint").value())) !=
+                      r.c.joint_ids.end());
+            }
+            double smallest = 1, largest = 0;
+            for (size_t k = 1; k < csv.rows.size(); ++k) {
+                smallest = std::min(smallest, csv.rows[k][0] - csv.rows[k - 1][0]);
+                largest = std::max(largest, csv.rows[k][0] - csv.rows[k - 1][0]);
+            }
+            CHECK(smallest == doctest::Approx(1e-3));  // increasing, at 1 kHz
+            CHECK(largest == doctest::Approx(1e-3));
+        }
+        CHECK(roles == std::set<std::string>{"fit", "validation"});
+        size_t compared = 0;
+        for (pugi::xml_node c : e.children("compare")) {
+            CHECK(std::string(c.attribute("quantity").value()) == "effort");
+            ++compared;
+        }
+        CHECK(compared == r.c.joint_ids.size());
+        // Each joint's id resolves in mbx's model of the input.
+        for (const std::string& id : r.c.joint_ids) CHECK(sim::find_joint(model_of(mech), id) >= 0);
+        CHECK(std::filesystem::exists(std::filesystem::path(r.c.experiment_path).parent_path() / "truth.json"));
+    }
+}
+
+TEST_CASE("hidden effects: a seed repeats byte for byte, another seed draws other magnitudes") {
+    mbx_test::TempDir da("mbx_hidden_seed"), db("mbx_hidden_seed"), dc("mbx_hidden_seed");
+    const std::vector<EffectSpec> effects = {{"viscous_friction", "40:-:41", 20, 60}, {"effort_offset", "40:-:41", 0.8, 2}};
+    const Run a = run("emps_axis", effects, da, 21);
+    const Run b = run("emps_axis", effects, db, 21);
+    const Run c = run("emps_axis", effects, dc, 22);
+    for (const char* f : {"fit.csv", "validation.csv", "experiment.xml", "truth.json", "mjcf/emps_axis.xml"}) {
+        CAPTURE(f);
+        const std::string ta = read_text(da.file(std::string("case/") + f));
+        CHECK(!ta.empty());
+        CHECK(ta == read_text(db.file(std::string("case/") + f)));
+    }
+    CHECK(read_text(da.file("case/fit.csv")) != read_text(dc.file("case/fit.csv")));
+    for (size_t k = 0; k < effects.size(); ++k)
+        CHECK(a.c.hidden[k].parameters[0].second != c.c.hidden[k].parameters[0].second);
+}
+
+TEST_CASE("hidden effects: the suite's size, spread and generation time") {
+    const std::vector<CaseSpec> suite = mbx_test::hidden_effect_suite(1);
+    int single = 0, clean = 0, pairs = 0;
+    std::set<std::string> causes, mechanisms, names;
+    for (const CaseSpec& s : suite) {
+        single += s.effects.size() == 1, clean += s.effects.empty(), pairs += s.effects.size() == 2;
+        for (const EffectSpec& e : s.effects) causes.insert(e.cause);
+        mechanisms.insert(s.mechanism);
+        names.insert(s.name);
+    }
+    CHECK(single >= 30);
+    CHECK(clean >= 6);
+    CHECK(pairs >= 3);
+    CHECK(names.size() == suite.size());
+    CHECK(mechanisms.size() == 3);
+    CHECK(causes.size() == mbx_test::generated_causes().size());
+    // A different seed, different magnitudes, same list.
+    const std::vector<CaseSpec> other = mbx_test::hidden_effect_suite(2);
+    REQUIRE(other.size() == suite.size());
+    CHECK(other[0].name == suite[0].name);
+    CHECK(other[0].seed != suite[0].seed);
+
+    mbx_test::TempDir dir("mbx_hidden_suite");
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<GeneratedCase> cases = mbx_test::generate_suite(suite, dir.path.string());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    MESSAGE("suite of " << cases.size() << " cases generated in " << seconds << " s");
+    CHECK(cases.size() == suite.size());
+    CHECK(std::filesystem::exists(dir.file("truth.json")));
+    for (const GeneratedCase& c : cases) {
+        CAPTURE(c.name);
+        CHECK(std::filesystem::exists(c.experiment_path));
+        for (const auto& h : c.hidden) CHECK((!h.joint_id.empty() || !h.body_id.empty()));
+    }
+}
