@@ -11,7 +11,7 @@
 // | delay                     | generator | applied = commanded from `delay` s earlier (whole steps)    | delay              |
 // | sensor_offset             | generator | recorded and controlled q = true q + offset                 | offset             |
 // | asymmetric_friction       | generator | -(c tanh(v/vs) + dc |tanh(v/vs)|): c+ = c + dc, c- = c - dc | c; dc/c in [.4,.8] |
-// | stribeck_friction         | generator | -fs tanh(v/vs) exp(-(v/vst)^2), vst 10 % of the RMS speed   | fs                 |
+// | stribeck_friction         | generator | -fs tanh(v/vs) exp(-(v/vst)^2), vst 20 % of the RMS speed   | fs                 |
 // | position_dependent_effort | generator | -k q (q from the CAD pose)                                  | k                  |
 //
 // The smooth sign's vs is 1 % of the reference's RMS speed, raised where
@@ -117,12 +117,46 @@ struct Rng {
 
 // A multi-sine with 1/f amplitudes (flat speed spectrum, acceleration
 // growing with frequency) scaled to a peak, faded in over the first 0.5 s so
-// that it starts at rest.
+// that it starts at rest. With holds, every kPeriod it fades out and rests
+// at 0 for kHold: standstill data tells a constant offset from friction that
+// differs with the direction of motion (asymmetric Coulomb), which sliding
+// data alone cannot.
 struct MultiSine {
     std::vector<double> f, c, phase;
     double scale = 1;
-    static constexpr double kFade = 0.5;
+    double start = 0;  // the measured position at t = 0
+    bool holds = false;
+    static constexpr double kFade = 0.5, kPeriod = 2.7, kHold = 0.4, kHoldFade = 0.3;
 
+    // A cosine step from 0 (x <= 0) to 1 (x >= 1) and its slope.
+    static void step(double x, double& w, double& wd) {
+        if (x <= 0 || x >= 1) {
+            w = x <= 0 ? 0 : 1, wd = 0;
+            return;
+        }
+        w = 0.5 * (1 - std::cos(M_PI * x));
+        wd = 0.5 * M_PI * std::sin(M_PI * x);
+    }
+    void envelope(double t, double& e, double& ed) const {
+        double w, wd;
+        step(t / kFade, w, wd);
+        e = w, ed = wd / kFade;
+        if (!holds) return;
+        const double tau = std::fmod(t, kPeriod);
+        const double out_start = kPeriod - kHold - 2 * kHoldFade, in_start = kPeriod - kHoldFade;
+        double h = 1, hd = 0;
+        if (tau >= out_start && tau < in_start - kHold) {
+            step((tau - out_start) / kHoldFade, w, wd);
+            h = 1 - w, hd = -wd / kHoldFade;
+        } else if (tau >= in_start - kHold && tau < in_start) {
+            h = 0;
+        } else if (tau >= in_start) {
+            step((tau - in_start) / kHoldFade, w, wd);
+            h = w, hd = wd / kHoldFade;
+        }
+        ed = ed * h + e * hd;
+        e *= h;
+    }
     void value(double t, double& r, double& rd) const {
         double s = 0, sd = 0;
         for (size_t k = 0; k < f.size(); ++k) {
@@ -130,18 +164,21 @@ struct MultiSine {
             s += c[k] * std::sin(w * t + phase[k]);
             sd += c[k] * w * std::cos(w * t + phase[k]);
         }
-        double win = 1, wind = 0;
-        if (t < kFade) {
-            win = 0.5 * (1 - std::cos(M_PI * t / kFade));
-            wind = 0.5 * M_PI / kFade * std::sin(M_PI * t / kFade);
-        }
-        r = scale * win * s;
-        rd = scale * (wind * s + win * sd);
+        double e, ed;
+        envelope(t, e, ed);
+        r = scale * e * s;
+        rd = scale * (ed * s + e * sd);
+        // From the measured start (a sensor offset): no step in the first command.
+        double w, wd;
+        step(t / kFade, w, wd);
+        r += (1 - w) * start;
+        rd -= wd / kFade * start;
     }
 };
 
-MultiSine make_multisine(Rng& rng, double f_lo, double f_hi, int n, double peak, double duration) {
+MultiSine make_multisine(Rng& rng, double f_lo, double f_hi, int n, double peak, double duration, bool holds) {
     MultiSine m;
+    m.holds = holds;
     for (int k = 0; k < n; ++k) {
         const double f = f_lo * std::pow(f_hi / f_lo, double(k) / (n - 1)) * rng.uniform(0.92, 1.08);
         m.f.push_back(f);
@@ -239,7 +276,7 @@ std::string case_json(const GeneratedCase& c, const CaseSpec& spec) {
     std::ostringstream o;
     o << "{\"name\": \"" << json_escape(c.name) << "\", \"mechanism\": \"" << c.mechanism << "\", \"input_kind\": \""
       << c.input_kind << "\", \"input\": \"" << json_escape(c.input) << "\", \"shapes\": \"" << json_escape(c.shapes)
-      << "\", \"seed\": " << spec.seed << ", \"noise_fraction\": " << spec.noise_fraction << ", \"hidden\": [";
+      << "\", \"seed\": " << spec.seed << ", \"noise_fraction\": " << spec.noise_fraction << ", \"rests\": " << (spec.holds ? "true" : "false") << ", \"hidden\": [";
     for (size_t k = 0; k < c.hidden.size(); ++k) o << (k ? ", " : "") << effect_json(c.hidden[k]);
     o << "]}";
     return o.str();
@@ -358,8 +395,8 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
     std::vector<MultiSine> fit_ref(na), val_ref(na);
     std::vector<double> speed(na);
     for (size_t i = 0; i < na; ++i) {
-        fit_ref[i] = make_multisine(rng, 0.2, 3.0, 7, info.amplitude[i], spec.fit_seconds);
-        val_ref[i] = make_multisine(rng, 0.3, 2.5, 6, 0.85 * info.amplitude[i], spec.validation_seconds);
+        fit_ref[i] = make_multisine(rng, 0.2, 3.0, 7, info.amplitude[i], spec.fit_seconds, spec.holds);
+        val_ref[i] = make_multisine(rng, 0.3, 2.5, 6, 0.85 * info.amplitude[i], spec.validation_seconds, spec.holds);
         speed[i] = rms_speed(fit_ref[i], spec.fit_seconds);
     }
 
@@ -440,7 +477,7 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
                             {"smoothing_velocity", x.vs}};
         } else if (e.cause == "stribeck_friction") {
             x.stribeck = value;
-            x.stribeck_v = 0.1 * speed[i];
+            x.stribeck_v = 0.2 * speed[i];
             smooth_velocity(value);
             h.parameters = {{"stribeck", value}, {"stribeck_velocity", x.stribeck_v}, {"smoothing_velocity", x.vs}};
         } else if (e.cause == "position_dependent_effort") {
@@ -452,6 +489,7 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         out.hidden.push_back(h);
     }
     mj_setConst(m, d);
+    for (size_t i = 0; i < na; ++i) fit_ref[i].start = val_ref[i].start = je[i].sensor_offset;
 
     // The two records.
     const double q_step[2] = {kTwoPi / 40000, 1e-6};  // encoder counts: revolute, prismatic
@@ -484,7 +522,11 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
                 history[i].push_back(u[i]);
                 const int back = int(history[i].size()) - 1 - je[i].delay_steps;
                 const double delayed = back >= 0 ? history[i][size_t(back)] : 0;
-                applied[i] = je[i].gain * delayed + je[i].offset;
+                const double before = back >= 1 ? history[i][size_t(back - 1)] : 0;
+                // The effort is held over the step; its value at mid-step
+                // (extrapolated) keeps the hold from delaying it by h/2,
+                // which the calibration would rightly name as a delay.
+                applied[i] = je[i].gain * (1.5 * delayed - 0.5 * before) + je[i].offset;
                 extra[i] = je[i].force(q, v);
             }
             mju_zero(d->qfrc_applied, m->nv);
@@ -572,16 +614,18 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
     struct Row {
         const char* mechanism;
         std::vector<EffectSpec> effects;
+        bool holds = false;
     };
     const std::string S = "two_link_arm/shoulder", E = "two_link_arm/elbow", P = "40:-:41", A = "fourbar/rev_A";
+    // No armature, actuator gain or mass error on emps_axis: its effort is
+    // the carriage's mass times acceleration alone, so the three are one
+    // and the same scaling of it (no data can tell them apart).
     const std::vector<Row> rows = {
         // emps_axis: the 9.42 kg carriage on a horizontal slide (no drive).
         {"emps_axis", {{"viscous_friction", P, 20, 60}}},
         {"emps_axis", {{"coulomb_friction", P, 1, 3}}},
-        {"emps_axis", {{"armature", P, 2, 5}}},
-        {"emps_axis", {{"effort_offset", P, 0.8, 2}}},
-        {"emps_axis", {{"actuator_gain", P, 0.7, 0.9}}},
-        {"emps_axis", {{"asymmetric_friction", P, 1, 3}}},
+        {"emps_axis", {{"effort_offset", P, 0.8, 2}}, true},
+        {"emps_axis", {{"asymmetric_friction", P, 1, 3}}, true},
         {"emps_axis", {{"stribeck_friction", P, 1.5, 3}}},
         {"emps_axis", {{"delay", P, 0.004, 0.012}}},
         {"emps_axis", {{"position_dependent_effort", P, 60, 200}}},
@@ -595,14 +639,15 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
         {"two_link_arm", {{"mass_error", "two_link_arm/upper", 0.2, 0.5}}},
         {"two_link_arm", {{"mass_error", "two_link_arm/forearm", -0.4, -0.15}}},
         {"two_link_arm", {{"effort_offset", S, 0.3, 1.0}}},
-        {"two_link_arm", {{"effort_offset", E, -0.25, -0.08}}},
+        {"two_link_arm", {{"effort_offset", E, -0.25, -0.08}}, true},
         {"two_link_arm", {{"actuator_gain", S, 0.7, 0.9}}},
         {"two_link_arm", {{"actuator_gain", E, 0.7, 0.9}}},
         {"two_link_arm", {{"sensor_offset", S, 0.03, 0.08}}},
         {"two_link_arm", {{"sensor_offset", E, -0.1, -0.05}}},
-        {"two_link_arm", {{"asymmetric_friction", S, 0.3, 0.8}}},
+        {"two_link_arm", {{"asymmetric_friction", S, 0.3, 0.8}}, true},
         {"two_link_arm", {{"stribeck_friction", E, 0.1, 0.3}}},
         {"two_link_arm", {{"delay", S, 0.004, 0.012}}},
+        {"two_link_arm", {{"delay", E, 0.004, 0.012}}},
         {"two_link_arm", {{"position_dependent_effort", E, 0.5, 1.5}}},
         // fourbar: crank driven, loop closed by MuJoCo's equality; efforts ~2e-4 N m.
         {"fourbar", {{"viscous_friction", A, 1.2e-4, 3.5e-4}}},
@@ -610,15 +655,15 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
         {"fourbar", {{"armature", A, 1e-5, 3e-5}}},
         {"fourbar", {{"effort_offset", A, 3e-5, 1e-4}}},
         {"fourbar", {{"actuator_gain", A, 0.7, 0.9}}},
-        {"fourbar", {{"asymmetric_friction", A, 3e-5, 8e-5}}},
+        {"fourbar", {{"asymmetric_friction", A, 3e-5, 8e-5}}, true},
         {"fourbar", {{"mass_error", "fourbar/coupler", 0.3, 0.6}}},
-        // clean
+        // clean, with and without rests
         {"emps_axis", {}},
-        {"emps_axis", {}},
+        {"emps_axis", {}, true},
         {"two_link_arm", {}},
-        {"two_link_arm", {}},
+        {"two_link_arm", {}, true},
         {"fourbar", {}},
-        {"fourbar", {}},
+        {"fourbar", {}, true},
         // two at once
         {"emps_axis", {{"viscous_friction", P, 20, 60}, {"coulomb_friction", P, 1, 3}}},
         {"two_link_arm", {{"coulomb_friction", S, 0.3, 1.0}, {"mass_error", "two_link_arm/forearm", 0.2, 0.5}}},
@@ -630,8 +675,10 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
         CaseSpec c;
         c.mechanism = rows[k].mechanism;
         c.effects = rows[k].effects;
+        c.holds = rows[k].holds;
         std::string name = c.mechanism;
         if (c.effects.empty()) name += "_clean";
+        if (c.holds) name += "_rests";
         for (const EffectSpec& e : c.effects) {
             std::string subject = e.subject;
             const size_t slash = subject.rfind('/');

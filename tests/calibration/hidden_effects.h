@@ -45,6 +45,10 @@ struct CaseSpec {
     unsigned seed = 1;      // magnitudes, excitation phases and noise
     double fit_seconds = 8, validation_seconds = 4;
     double noise_fraction = 0.015;  // effort noise sigma over the record's effort RMS
+    // Rests in the excitation: every 2.7 s the reference fades out and holds
+    // still for 0.4 s (standstill data separates an effort offset from
+    // asymmetric Coulomb friction).
+    bool holds = false;
 };
 
 struct GeneratedCase {
@@ -67,7 +71,9 @@ struct TrueMotion {
     std::vector<double> t;
     Eigen::MatrixXd q, v, a;          // samples x model nv
     Eigen::MatrixXd commanded;        // samples x actuated: the controller's effort (what is recorded, noise-free)
-    Eigen::MatrixXd applied;          // samples x actuated: what the actuator put on the joint
+    // samples x actuated: what the actuator put on the joint over the step
+    // starting at the sample (the command extrapolated to mid-step, after the effects)
+    Eigen::MatrixXd applied;
     Eigen::MatrixXd generator_force;  // samples x actuated: forces the generator added (friction, springs)
     std::vector<int> actuated_dof;    // model velocity coordinate of each actuated joint
     double effort_noise_sigma_first = 0;  // sigma of the first actuated joint's recorded effort noise
