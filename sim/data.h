@@ -45,7 +45,6 @@ template <class S> struct DataT {
     std::vector<Vec6T<S>> vel;           // spatial velocity, body coordinates
     std::vector<Vec6T<S>> acc;           // spatial acceleration, body coordinates
     std::vector<Vec6T<S>> bias_acc;      // velocity-product acceleration of each joint
-    std::vector<Vec6T<S>> acc_velocity;  // body acceleration with zero qacc and no gravity (loop closure bias)
     std::vector<Vec6T<S>> force;         // RNEA body forces
 
     // Articulated-body workspaces.
@@ -64,6 +63,7 @@ template <class S> struct DataT {
     MatXT<S> J;         // closure_rows x nv
     VecXT<S> residual;  // closure_rows
     VecXT<S> gamma;     // -Jdot v
+    std::vector<Vec6T<S>> world_motion;  // per velocity coordinate: its motion in world coordinates
 
     // Constrained solve workspaces.
     Fresh<ClosureFactor<S>> closure_factor;
@@ -77,6 +77,13 @@ template <class S> struct DataT {
     // its factor after closing the loops (empty: none); the next step starts
     // from them when data.q is still exactly these.
     VecXT<S> q_closed;
+    // Euler: the corrections that closing the loops added to the last two
+    // steps' predicted positions (velocity coordinates), how many of them
+    // are known (steps that ended where the next began), and the current
+    // step's. They change smoothly from step to step, so the next
+    // prediction extrapolates them.
+    VecXT<S> closure_carry, closure_carry_before, closure_moved;
+    int carry_count = 0;
 
     // Per-dof workspaces (integrators: start state, stage sums).
     VecXT<S> tmp_v, tmp_v2;
@@ -103,7 +110,6 @@ template <class S> struct DataT {
         vel.assign(nb, Vec6T<S>::Zero());
         acc.assign(nb, Vec6T<S>::Zero());
         bias_acc.assign(nb, Vec6T<S>::Zero());
-        acc_velocity.assign(nb, Vec6T<S>::Zero());
         force.assign(nb, Vec6T<S>::Zero());
         articulated.assign(nb, Mat6T<S>::Zero());
         bias_force.assign(nb, Vec6T<S>::Zero());

@@ -1,5 +1,6 @@
 #include "sim/integrator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/cvode_session.h"
@@ -42,17 +43,17 @@ void check_finite_state(const Model& m, const Data& d, const char* when, mbx_sta
     }
 }
 
-double close_loops(const Model& m, Data& d, double tolerance, bool warm) {
+double close_loops(const Model& m, Data& d, double tolerance, bool warm, Eigen::VectorXd* moved) {
     if (m.closures.empty()) return 0;
     const double scaled = tolerance / m.length_scale;
-    if (!project_positions(m, d, d.closure_factor, scaled, 50, nullptr, warm)) {
+    if (!project_positions(m, d, d.closure_factor, scaled, 50, nullptr, warm, moved)) {
         const int worst = worst_closure(m, d.residual);
         const LoopClosureT<double>& c = m.closures[size_t(worst < 0 ? 0 : worst)];
         throw Error(MBX_ERROR_INVALID_INPUT, c.subject(),
                     "the loop closed by cut joint '" + c.name + "' cannot be closed (residual " +
                         std::to_string(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale) + ")");
     }
-    project_velocities(m, d, d.closure_factor);
+    project_velocities(m, d, d.closure_factor, nullptr, false);
     if (warm) d.q_closed = d.q;
     return d.residual.lpNorm<Eigen::Infinity>() * m.length_scale;
 }
@@ -81,6 +82,18 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
             // chord steps of close_loops a third-order rest.
             d.tmp_v2 = d.v;
             d.tmp_v2.noalias() -= (0.5 * h) * d.qacc_particular;
+            // The third-order rest varies smoothly along the motion: the
+            // last two steps' corrections, extrapolated and added here, leave
+            // the chord steps little (when the last steps ended where the
+            // next ones began).
+            if (!positions_ready) d.carry_count = 0;
+            if (d.carry_count == 0)
+                d.closure_moved.setZero(m.nv);
+            else if (d.carry_count == 1)
+                d.closure_moved = d.closure_carry;
+            else
+                d.closure_moved = 2 * d.closure_carry - d.closure_carry_before;
+            d.tmp_v2.noalias() += (1 / h) * d.closure_moved;
         } else {
             d.tmp_v2 = d.v;
         }
@@ -110,7 +123,19 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
     ++stats.steps;
     if (!(d.q.allFinite() && d.v.allFinite()))
         check_finite_state(m, d, ("at t = " + std::to_string(d.time) + " s: the run diverged").c_str(), MBX_ERROR_SIMULATION);
-    stats.max_closure_residual = std::max(stats.max_closure_residual, close_loops(m, d, settings.closure_tolerance, true));
+    const bool carry = settings.kind == IntegratorKind::Euler && !m.closures.empty();
+    stats.max_closure_residual = std::max(stats.max_closure_residual,
+                                          close_loops(m, d, settings.closure_tolerance, true, carry ? &d.closure_moved : nullptr));
+    if (carry) {
+        // Only the correction across the closures carries over (its part
+        // along the motion would push every later step the same way): its
+        // minimum-norm part for the rows at the closed positions.
+        d.closure_rhs.noalias() = d.J * d.closure_moved;
+        d.closure_moved = d.closure_factor.particular(d.closure_rhs);
+        std::swap(d.closure_carry_before, d.closure_carry);
+        std::swap(d.closure_carry, d.closure_moved);
+        d.carry_count = std::min(d.carry_count + 1, 2);
+    }
 }
 
 }  // namespace

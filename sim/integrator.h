@@ -43,7 +43,8 @@ void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings);
 // evaluation (positions one step back, close enough to converge); the
 // velocities need the exact rows, whose factor the next step's first
 // evaluation then reuses, so a step costs one factorisation, not two.
-double close_loops(const Model& m, Data& d, double tolerance, bool warm = false);
+// `moved`, when given, gets the positions' correction added to it.
+double close_loops(const Model& m, Data& d, double tolerance, bool warm = false, Eigen::VectorXd* moved = nullptr);
 
 // Throws mbx::Error(status) naming the first joint with a non-finite coordinate.
 void check_finite_state(const Model& m, const Data& d, const char* when, mbx_status status = MBX_ERROR_INVALID_INPUT);

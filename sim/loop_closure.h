@@ -46,60 +46,82 @@ template <class S> void update_closure_residual(const ModelT<S>& m, DataT<S>& d)
 // data.J (scaled rows): rates of the residual rows. Needs update_positions.
 template <class S> void update_closure_jacobian(const ModelT<S>& m, DataT<S>& d) {
     d.J.setZero(m.closure_rows, m.nv);
+    // Each velocity coordinate's motion in world coordinates (about the world
+    // origin), once for all closures rather than once per chain walk.
+    d.world_motion.resize(size_t(m.nv));
+    for (size_t b = 1; b < m.bodies.size(); ++b) {
+        const JointT<S>& j = m.joints[b - 1];
+        for (int k = 0; k < j.nv(); ++k)
+            d.world_motion[size_t(j.v_index + k)] = d.x_world[b].motion_to_parent(Vec6T<S>(d.subspace[b].col(k)));
+    }
     int row = 0;
     for (const LoopClosureT<S>& c : m.closures) {
         const Transform<S> A = d.x_world[size_t(c.body_a)] * c.frame_a;
         const Transform<S> B = d.x_world[size_t(c.body_b)] * c.frame_b;
-        // Selectors in world axes.
-        Eigen::Matrix<S, 6, 6> sel;
+        // Row r picks sa . w + sl . (v + w x p) out of a world motion (w, v)
+        // about the origin seen at point p, i.e. (sa + p x sl) . w + sl . v:
+        // one 6-vector per row and end.
+        Eigen::Matrix<S, 6, 6> ga, gb;
         for (int r = 0; r < c.rows; ++r) {
-            sel.col(r).template head<3>() = A.R * c.row[size_t(r)].template head<3>() * closure_row_scale(m, c, r);
-            sel.col(r).template tail<3>() = A.R * c.row[size_t(r)].template tail<3>() * closure_row_scale(m, c, r);
+            const S scale = closure_row_scale(m, c, r);
+            const Vec3T<S> sa = A.R * c.row[size_t(r)].template head<3>() * scale;
+            const Vec3T<S> sl = A.R * c.row[size_t(r)].template tail<3>() * scale;
+            ga.col(r).template head<3>() = sa + A.p.cross(sl);
+            gb.col(r).template head<3>() = sa + B.p.cross(sl);
+            ga.col(r).template tail<3>() = sl;
+            gb.col(r).template tail<3>() = sl;
         }
         // + columns of body b's chain at B, - columns of body a's chain at A;
         // the common ancestors' columns cancel.
-        auto add_chain = [&](int body, const Vec3T<S>& point, const S& sign) {
+        auto add_chain = [&](int body, const Eigen::Matrix<S, 6, 6>& g, bool minus) {
             for (int b = body; b > 0; b = m.bodies[size_t(b)].parent) {
                 const JointT<S>& j = m.joints[size_t(b - 1)];
                 for (int k = 0; k < j.nv(); ++k) {
-                    const Vec6T<S> w = d.x_world[size_t(b)].motion_to_parent(Vec6T<S>(d.subspace[size_t(b)].col(k)));
-                    Vec6T<S> col;
-                    col.template head<3>() = w.template head<3>();
-                    col.template tail<3>() = w.template tail<3>() + w.template head<3>().cross(point);
-                    for (int r = 0; r < c.rows; ++r) d.J(row + r, j.v_index + k) += sign * sel.col(r).dot(col);
+                    const Vec6T<S>& w = d.world_motion[size_t(j.v_index + k)];
+                    for (int r = 0; r < c.rows; ++r) {
+                        const S x = g.col(r).dot(w);
+                        if (minus)
+                            d.J(row + r, j.v_index + k) -= x;
+                        else
+                            d.J(row + r, j.v_index + k) += x;
+                    }
                 }
             }
         };
-        add_chain(c.body_b, B.p, S(1));
-        add_chain(c.body_a, A.p, S(-1));
+        add_chain(c.body_b, gb, false);
+        add_chain(c.body_a, ga, true);
         row += c.rows;
     }
 }
 
 // data.gamma = -Jdot v (scaled rows): what J qacc must equal. Needs
-// update_kinematics; fills data.acc_velocity.
+// inverse_dynamics at zero qacc (data.acc: the bodies' velocity-product
+// accelerations plus gravity's uniform field, which adds the same linear
+// acceleration at both ends of a closure and so drops out of the rows).
 template <class S> void update_closure_bias(const ModelT<S>& m, DataT<S>& d) {
-    d.acc_velocity[0].setZero();
-    for (size_t b = 1; b < m.bodies.size(); ++b)
-        d.acc_velocity[b] = d.x_parent[b].motion_to_child(d.acc_velocity[size_t(m.bodies[b].parent)]) + d.bias_acc[b];
     int row = 0;
     for (const LoopClosureT<S>& c : m.closures) {
         const Transform<S> A = d.x_world[size_t(c.body_a)] * c.frame_a;
         const Transform<S> B = d.x_world[size_t(c.body_b)] * c.frame_b;
-        const Vec6T<S> va = point_velocity(d, c.body_a, A.p), vb = point_velocity(d, c.body_b, B.p);
-        const Vec6T<S> aa = point_acceleration(d, d.acc_velocity[size_t(c.body_a)], c.body_a, A.p);
-        const Vec6T<S> ab = point_acceleration(d, d.acc_velocity[size_t(c.body_b)], c.body_b, B.p);
+        // World velocity and acceleration of the bodies (about the world
+        // origin), then at the closure's points.
+        const Vec6T<S> Va = d.x_world[size_t(c.body_a)].motion_to_parent(d.vel[size_t(c.body_a)]);
+        const Vec6T<S> Vb = d.x_world[size_t(c.body_b)].motion_to_parent(d.vel[size_t(c.body_b)]);
+        const Vec6T<S> Aa = d.x_world[size_t(c.body_a)].motion_to_parent(d.acc[size_t(c.body_a)]);
+        const Vec6T<S> Ab = d.x_world[size_t(c.body_b)].motion_to_parent(d.acc[size_t(c.body_b)]);
+        const Vec3T<S> wa = Va.template head<3>(), wb = Vb.template head<3>();
+        const Vec3T<S> va = Va.template tail<3>() + wa.cross(A.p), vb = Vb.template tail<3>() + wb.cross(B.p);
+        const Vec3T<S> aa = Aa.template tail<3>() + Aa.template head<3>().cross(A.p) + wa.cross(va);
+        const Vec3T<S> ab = Ab.template tail<3>() + Ab.template head<3>().cross(B.p) + wb.cross(vb);
         // Rows are fixed in A, which turns with body a at w_a.
-        const Vec3T<S> wa = va.template head<3>();
-        const Vec3T<S> w_rel = vb.template head<3>() - va.template head<3>();
-        const Vec3T<S> v_rel = vb.template tail<3>() - va.template tail<3>();
-        const Vec3T<S> dw = ab.template head<3>() - aa.template head<3>() - wa.cross(w_rel);
-        const Vec3T<S> dv = ab.template tail<3>() - aa.template tail<3>() - wa.cross(v_rel);
-        for (int r = 0; r < c.rows; ++r) {
-            const Vec3T<S> sa = A.R * c.row[size_t(r)].template head<3>();
-            const Vec3T<S> sl = A.R * c.row[size_t(r)].template tail<3>();
-            d.gamma[row++] = -(sa.dot(dw) + sl.dot(dv)) * closure_row_scale(m, c, r);
-        }
+        const Vec3T<S> w_rel = wb - wa;
+        const Vec3T<S> v_rel = vb - va;
+        const Vec3T<S> dw = Ab.template head<3>() - Aa.template head<3>() - wa.cross(w_rel);
+        const Vec3T<S> dv = ab - aa - wa.cross(v_rel);
+        const Vec3T<S> dw_a = A.R.transpose() * dw, dv_a = A.R.transpose() * dv;
+        for (int r = 0; r < c.rows; ++r)
+            d.gamma[row++] = -(c.row[size_t(r)].template head<3>().dot(dw_a) + c.row[size_t(r)].template tail<3>().dot(dv_a)) *
+                             closure_row_scale(m, c, r);
     }
 }
 
@@ -121,11 +143,12 @@ template <class S> int worst_closure(const ModelT<S>& m, const VecXT<S>& v) {
 // fast) until every closure holds within
 // `tolerance` (scaled residual, i.e. metres / model size and radians).
 // Returns false, leaving data.q at the last iterate, if it does not converge.
+// `moved`, when given, gets the sum of the steps taken (added to it).
 // `warm`: f already holds a factor of the closure rows at nearby positions
 // (the step's last dynamics evaluation), good for the first chord steps.
 template <class S>
 bool project_positions(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, double tolerance, int max_iterations = 50,
-                       const std::vector<char>* fixed = nullptr, bool warm = false) {
+                       const std::vector<char>* fixed = nullptr, bool warm = false, VecXT<S>* moved = nullptr) {
     if (m.closures.empty()) return true;
     warm = warm && f.factored();
     VecXT<S>& step = d.closure_step;
@@ -157,15 +180,19 @@ bool project_positions(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, dou
                 if ((*fixed)[size_t(k)]) step[k] = S(0);
         for (const JointT<S>& j : m.joints)
             integrate_joint<S>(j.kind, d.q.data() + j.q_index, step.data() + j.v_index, S(1));
+        if (moved) *moved += step;
     }
     return false;
 }
 
 // Removes from data.v its component that violates the closures (minimum
 // norm change of the free coordinates). Needs update_positions; returns the
-// largest scaled J v left (nonzero when the fixed velocities admit none).
+// largest scaled J v left (nonzero when the fixed velocities admit none;
+// not computed, 0, when `check` is false and nothing is fixed: then only
+// round-off is left).
 template <class S>
-S project_velocities(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, const std::vector<char>* fixed = nullptr) {
+S project_velocities(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, const std::vector<char>* fixed = nullptr,
+                     bool check = true) {
     if (m.closures.empty()) return S(0);
     update_closure_jacobian(m, d);
     d.closure_rhs.noalias() = d.J * d.v;
@@ -179,6 +206,7 @@ S project_velocities(const ModelT<S>& m, DataT<S>& d, ClosureFactor<S>& f, const
         for (int k = 0; k < m.nv; ++k)
             if ((*fixed)[size_t(k)]) change[k] = S(0);
     d.v -= change;
+    if (!check && !fixed) return S(0);
     // Zeroed columns must come back for the check; otherwise J is still whole.
     if (fixed) update_closure_jacobian(m, d);
     d.closure_rhs.noalias() = d.J * d.v;
