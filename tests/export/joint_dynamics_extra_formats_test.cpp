@@ -13,6 +13,7 @@
 
 #include "builder.h"
 #include "drives_support.h"
+#include "joint_dynamics_support.h"
 #include "mjcf/mjcf_export.h"
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
@@ -27,43 +28,9 @@ const std::string kTrans = "Modelica.Mechanics.Translational.";
 namespace build = mbx_stub::build;
 const mbx_units kSI{1, 1, 1};
 
-// A carriage on a prismatic joint along x ("ex/slide") carrying a pendulum
-// on a revolute about x ("ex/pivot") hanging along -z.
-mbx_memory::Assembly carriage_pendulum() {
-    mbx_memory::Assembly a;
-    a.name = "carriage pendulum";
-    build::Builder b(a, "ex", kSI, kSI);
-    const build::Mat3 I = build::Mat3::Identity();
-    b.body("base", "Base", MBX_BODY_GROUND, 10, I, build::Vec3(0, 0, 0), build::Vec3(0, 0, 0), I);
-    b.body("carriage", "Carriage", 0, 3, I, build::Vec3(0, 0, 0), build::Vec3(0, 0, 0),
-           build::box_inertia(3, 0.2, 0.2, 0.05));
-    b.body("bob", "Bob", 0, 2, I, build::Vec3(0, 0, -0.4), build::Vec3(0, 0, -0.4), 1e-3 * I);
-    build::Prim slide;
-    slide.type = MBX_PRIMITIVE_PRISMATIC;
-    slide.axis = build::Vec3(1, 0, 0);
-    b.joint("slide", "base", "carriage", build::Vec3(0, 0, 0), I, {slide}, MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
-    b.joint("pivot", "carriage", "bob", build::Vec3(0, 0, 0), I, {build::revolute(build::Vec3(1, 0, 0))},
-            MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
-    return a;
-}
-
-int joint_named(const Mechanism& m, const std::string& name) {
-    for (size_t j = 0; j < m.joints.size(); ++j)
-        if (m.joints[j].name == name) return int(j);
-    FAIL("no joint " << name);
-    return -1;
-}
-
-std::vector<ResolvedJointDynamics> resolve_joints(const Mechanism& m, const std::string& joints) {
-    MechatronicSpec spec;
-    std::vector<DriveError> errors;
-    load_drive_text("<mechatronics version=\"1\">\n" + joints + "</mechatronics>\n", "joints.xml", "", spec, errors);
-    for (const DriveError& e : errors) FAIL_CHECK(e.text());
-    std::vector<ResolvedJointDynamics> out = resolve_joint_dynamics(spec, m, errors);
-    for (const DriveError& e : errors) FAIL_CHECK(e.text());
-    REQUIRE(errors.empty());
-    return out;
-}
+using xtest::joint_named;
+using xtest::resolve_joints;
+mbx_memory::Assembly carriage_pendulum() { return xtest::carriage_pendulum("ex", false); }
 
 // Slide: the EMPS rig's offset with asymmetric Coulomb friction and damping.
 // Pivot: a Stribeck peak over a symmetric Coulomb level, and an offset.

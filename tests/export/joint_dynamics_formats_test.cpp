@@ -8,6 +8,7 @@
 
 #include "builder.h"
 #include "drives_support.h"
+#include "joint_dynamics_support.h"
 #include "mjcf/mjcf_export.h"
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
@@ -21,53 +22,16 @@ constexpr double kPi = 3.14159265358979323846;
 const std::string kRot = "Modelica.Mechanics.Rotational.";
 const std::string kTrans = "Modelica.Mechanics.Translational.";
 
-using mbx_stub::build::Builder;
-using mbx_stub::build::Prim;
 namespace build = mbx_stub::build;
 
 const mbx_units kSI{1, 1, 1};
 
-// A carriage on a prismatic joint along x ("lin/slide") carrying a pendulum
-// on a revolute about x ("lin/pivot", CAD limits +-2 rad) that hangs along -z:
-// a point-like bob of `bob_mass` at `length` below the pivot.
-constexpr double kLength = 0.4, kBobMass = 2.0, kBobInertia = 1e-3;
-mbx_memory::Assembly carriage_pendulum() {
-    mbx_memory::Assembly a;
-    a.name = "carriage pendulum";
-    Builder b(a, "lin", kSI, kSI);
-    const build::Mat3 I = build::Mat3::Identity();
-    b.body("base", "Base", MBX_BODY_GROUND, 10, I, build::Vec3(0, 0, 0), build::Vec3(0, 0, 0), I);
-    b.body("carriage", "Carriage", 0, 3, I, build::Vec3(0, 0, 0), build::Vec3(0, 0, 0),
-           build::box_inertia(3, 0.2, 0.2, 0.05));
-    b.body("bob", "Bob", 0, kBobMass, I, build::Vec3(0, 0, -kLength), build::Vec3(0, 0, -kLength),
-           kBobInertia * I);
-    Prim slide;
-    slide.type = MBX_PRIMITIVE_PRISMATIC;
-    slide.axis = build::Vec3(1, 0, 0);
-    b.joint("slide", "base", "carriage", build::Vec3(0, 0, 0), I, {slide}, MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
-    b.joint("pivot", "carriage", "bob", build::Vec3(0, 0, 0), I,
-            {build::revolute(build::Vec3(1, 0, 0), MBX_AXIS_IN_WORLD, -2, 2)}, MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
-    return a;
-}
-
-int joint_named(const Mechanism& m, const std::string& name) {
-    for (size_t j = 0; j < m.joints.size(); ++j)
-        if (m.joints[j].name == name) return int(j);
-    FAIL("no joint " << name);
-    return -1;
-}
-
-// `joints` (<joint> elements) resolved against `m`; REQUIREs a clean file.
-std::vector<ResolvedJointDynamics> resolve_joints(const Mechanism& m, const std::string& joints) {
-    MechatronicSpec spec;
-    std::vector<DriveError> errors;
-    load_drive_text("<mechatronics version=\"1\">\n" + joints + "</mechatronics>\n", "joints.xml", "", spec, errors);
-    for (const DriveError& e : errors) FAIL_CHECK(e.text());
-    std::vector<ResolvedJointDynamics> out = resolve_joint_dynamics(spec, m, errors);
-    for (const DriveError& e : errors) FAIL_CHECK(e.text());
-    REQUIRE(errors.empty());
-    return out;
-}
+mbx_memory::Assembly carriage_pendulum() { return xtest::carriage_pendulum("lin", true); }
+using xtest::joint_named;
+using xtest::kBobInertia;
+using xtest::kBobMass;
+using xtest::kLength;
+using xtest::resolve_joints;
 
 const std::string kCarriageJoints =
     "<joint constraint=\"lin/slide\" damping=\"12\" coulomb=\"3.5\" stiffness=\"40\" rest=\"25\" armature=\"0.75\" "

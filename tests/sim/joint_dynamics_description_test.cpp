@@ -9,6 +9,7 @@
 #include "builder.h"
 #include "drives_support.h"
 #include "export_fixture.h"
+#include "joint_dynamics_support.h"
 #include "sim/build_model.h"
 #include "sim/data.h"
 #include "sim/integrator.h"
@@ -20,16 +21,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::vector<ResolvedJointDynamics> resolve_joints(const Mechanism& m, const std::string& joints) {
-    MechatronicSpec spec;
-    std::vector<DriveError> errors;
-    load_drive_text("<mechatronics version=\"1\">\n" + joints + "</mechatronics>\n", "joints.xml", "", spec, errors);
-    for (const DriveError& e : errors) FAIL_CHECK(e.text());
-    std::vector<ResolvedJointDynamics> out = resolve_joint_dynamics(spec, m, errors);
-    for (const DriveError& e : errors) FAIL_CHECK(e.text());
-    REQUIRE(errors.empty());
-    return out;
-}
+using xtest::resolve_joints;
 
 // A pendulum about x hanging along -z from ground: a bob of kMass at kLength.
 constexpr double kLength = 0.4, kMass = 2.0, kBobInertia = 1e-3;
