@@ -7,6 +7,7 @@
 #include "core/finding.h"
 #include "sim/dynamics.h"
 #include "sim/joint_forces.h"
+#include "sim/loop_closure.h"
 
 namespace mbx::calibration {
 
@@ -47,34 +48,124 @@ void model_effort(const sim::Model& m, sim::Data& d, const Eigen::VectorXd& qdd,
     tau -= d.qfrc_passive;
 }
 
+// The motion of a closed chain from its measured (independent) coordinates:
+// the others follow from the loop closures, positions by Gauss-Newton from
+// the last sample's solution (so the solution stays on the assembly's
+// branch), velocities from J v = 0 and accelerations from J a = -Jdot v.
+// With J = [Ji Jd] over independent and dependent coordinates, every motion
+// the loops allow is v = G vi with G = [I; -Jd^+ Ji]. The closure's forces
+// do no work along such motions (J G = 0), so the tree's inverse dynamics
+// tau, which needs the loop forces J^T lambda besides the actuators, gives
+// the actuators' efforts on the independent coordinates as G^T tau.
+struct ClosedChain {
+    std::vector<int> independent, dependent;  // velocity coordinates
+    std::vector<char> fixed;                  // per coordinate: independent
+    sim::ClosureFactor<double> factor;
+
+    bool active() const { return !dependent.empty(); }
+
+    // d.q holds the independent positions and a start for the others; on
+    // return every coordinate of d.q, qd and qdd is closure-consistent.
+    void close(const sim::Model& m, sim::Data& d, Eigen::VectorXd& qd, Eigen::VectorXd& qdd, Eigen::MatrixXd& G) {
+        const Eigen::Index ni = Eigen::Index(independent.size()), nd = Eigen::Index(dependent.size());
+        if (!sim::project_positions(m, d, factor, 1e-11, 50, &fixed))
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
+                        "the measured coordinates put the loops where no closure holds (a reading off the mechanism's "
+                        "range, or the wrong joints measured)");
+        d.v.setZero();
+        sim::update_kinematics(m, d);
+        sim::update_closure_jacobian(m, d);
+        Eigen::MatrixXd Ji(d.J.rows(), ni), Jd(d.J.rows(), nd);
+        for (Eigen::Index k = 0; k < ni; ++k) Ji.col(k) = d.J.col(independent[size_t(k)]);
+        for (Eigen::Index k = 0; k < nd; ++k) Jd.col(k) = d.J.col(dependent[size_t(k)]);
+        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Jd);
+        cod.setThreshold(1e-9);
+        if (cod.rank() < nd)
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
+                        "the measured coordinates do not fix the loops' other coordinates (at this pose): measure "
+                        "independent coordinates of the loops");
+        const Eigen::MatrixXd Gd = -cod.solve(Ji);
+        G.setZero(m.nv, ni);
+        for (Eigen::Index k = 0; k < ni; ++k) G(independent[size_t(k)], k) = 1;
+        for (Eigen::Index k = 0; k < nd; ++k) G.row(dependent[size_t(k)]) = Gd.row(k);
+        Eigen::VectorXd vi(ni), ai(ni);
+        for (Eigen::Index k = 0; k < ni; ++k) vi[k] = qd[independent[size_t(k)]], ai[k] = qdd[independent[size_t(k)]];
+        qd = G * vi;
+        d.v = qd;
+        sim::update_kinematics(m, d);
+        Eigen::VectorXd tau;
+        sim::inverse_dynamics(m, d, Eigen::VectorXd::Zero(m.nv).eval(), tau);
+        sim::update_closure_bias(m, d);
+        const Eigen::VectorXd ad = cod.solve((d.gamma - Ji * ai).eval());
+        qdd = G * ai;  // independent accelerations; the dependents' velocity-product part below
+        for (Eigen::Index k = 0; k < nd; ++k) qdd[dependent[size_t(k)]] = ad[k];
+    }
+};
+
 }  // namespace
+
 
 RegressionRows regression_rows(const sim::Model& m, const std::vector<const Record*>& records,
                                const IdentifyOptions& options, const std::vector<double>* weights) {
     RegressionRows rows;
-    if (!m.closures.empty())
-        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
-                    "inverse-dynamics identification of models with loops is not supported yet");
     for (const sim::JointT<double>& j : m.joints)
         if (j.nv() != 1)
             throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
                         "joint '" + j.name + "' is not a revolute or prismatic joint: inverse-dynamics "
-                        "identification needs every coordinate measured");
-    // Actuated coordinates: those with an effort signal in every record.
+                        "identification needs one coordinate per joint");
+    // Actuated coordinates: those with an effort signal in every record;
+    // measured ones: those with a position in every record.
+    ClosedChain chain;
+    chain.fixed.assign(size_t(m.nv), 0);
     for (int dof = 0; dof < m.nv; ++dof) {
-        bool all = !records.empty();
-        for (const Record* r : records) all = all && r->find(Quantity::Effort, dof);
-        if (all) rows.actuated.push_back(dof);
+        bool effort = !records.empty(), position = !records.empty();
+        for (const Record* r : records) {
+            effort = effort && r->find(Quantity::Effort, dof);
+            position = position && r->find(Quantity::Position, dof);
+        }
+        if (effort) rows.actuated.push_back(dof);
+        if (position || m.closures.empty()) {
+            chain.independent.push_back(dof);
+            chain.fixed[size_t(dof)] = 1;
+        } else {
+            chain.dependent.push_back(dof);
+        }
     }
     if (rows.actuated.empty())
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "no joint has a measured effort in every record");
+    for (int dof : rows.actuated)
+        if (!chain.fixed[size_t(dof)])
+            throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(m.dof_joint[size_t(dof)])].subject(),
+                        "joint '" + m.joints[size_t(m.dof_joint[size_t(dof)])].name +
+                            "' has a measured effort but no measured position in every record");
     const size_t na = rows.actuated.size();
+    std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
+    for (size_t a = 0; a < na; ++a)
+        actuated_at[a] = Eigen::Index(std::find(chain.independent.begin(), chain.independent.end(), rows.actuated[a]) -
+                                      chain.independent.begin());
+    if (chain.active()) {
+        // As many measured coordinates as the loops leave free (at the assembly pose).
+        sim::Data d(m);
+        d.q = m.q_reference;
+        sim::update_positions(m, d);
+        sim::update_closure_jacobian(m, d);
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(d.J);
+        qr.setThreshold(1e-9);
+        const int mobility = m.nv - int(qr.rank());
+        if (int(chain.independent.size()) != mobility)
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
+                        "the loops leave " + std::to_string(mobility) + " coordinate(s) free but " +
+                            std::to_string(chain.independent.size()) +
+                            " are measured: identification of a closed chain needs the positions of exactly its "
+                            "independent coordinates");
+    }
 
     std::vector<sim::Model> body_models;
     for (int b = 1; b < m.body_count(); ++b) body_models.push_back(only_body(m, b));
 
     struct Sample {
         Eigen::VectorXd q, qd, qdd, effort, rate;
+        bool first = false;  // of its record: the loops are closed from the assembly pose
     };
     std::vector<Sample> kept;
     for (const Record* r : records) {
@@ -82,12 +173,13 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         const double fs = 1 / dt;
         const double cutoff = options.cutoff > 0 ? options.cutoff : std::min(25.0, fs / 40);
         std::vector<std::vector<double>> q(size_t(m.nv)), qd(size_t(m.nv)), qdd(size_t(m.nv));
-        for (int dof = 0; dof < m.nv; ++dof) {
+        for (int dof : chain.independent) {
             const Signal* p = r->find(Quantity::Position, dof);
             if (!p)
                 throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(m.dof_joint[size_t(dof)])].subject(),
                             r->path + ": joint '" + m.joints[size_t(m.dof_joint[size_t(dof)])].name +
-                                "' has no measured position: inverse-dynamics identification needs every coordinate");
+                                "' has no measured position: inverse-dynamics identification needs every coordinate "
+                                "of a tree");
             q[size_t(dof)] = low_pass(p->values, dt, cutoff);
             qd[size_t(dof)] = derivative(q[size_t(dof)], dt);
             qdd[size_t(dof)] = derivative(qd[size_t(dof)], dt);
@@ -106,8 +198,10 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         const size_t n = r->t.size();
         for (size_t k = edge; k + edge < n; k += step) {
             Sample s;
-            s.q = m.q_reference, s.qd.resize(m.nv), s.qdd.resize(m.nv), s.effort.resize(long(na)), s.rate.resize(long(na));
-            for (int dof = 0; dof < m.nv; ++dof) {
+            s.first = k == edge;
+            s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
+            s.effort.resize(long(na)), s.rate.resize(long(na));
+            for (int dof : chain.independent) {
                 const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(dof)])];
                 s.q[j.q_index] = q[size_t(dof)][k];
                 s.qd[dof] = qd[size_t(dof)][k];
@@ -123,35 +217,66 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     const Eigen::Index S = rows.samples, A = Eigen::Index(na);
     rows.q.resize(S, m.nq), rows.qd.resize(S, m.nv), rows.qdd.resize(S, m.nv);
     rows.effort.resize(S, A), rows.effort_rate.resize(S, A), rows.model_effort.resize(S, A);
-    rows.effort_by_position.assign(size_t(m.nv), Eigen::MatrixXd(S, A));
+    rows.effort_by_position.assign(size_t(m.nv), Eigen::MatrixXd::Zero(S, A));
     rows.effort_of_body.assign(size_t(m.body_count()), Eigen::MatrixXd::Zero(S, A));
-    sim::Data d(m);
+    sim::Data d(m), probe(m);
     std::vector<sim::Data> body_data;
     for (const sim::Model& bm : body_models) body_data.emplace_back(bm);
-    Eigen::VectorXd tau, tau2;
+    // The actuated efforts the model needs at a sample (positions in dd.q,
+    // the loops closed from there): the tree's inverse dynamics, projected
+    // onto the independent coordinates when there are loops.
+    Eigen::MatrixXd G;
+    Eigen::VectorXd tau, qd, qdd;
+    auto needed = [&](sim::Data& dd, const Sample& x, Eigen::VectorXd& out) {
+        qd = x.qd, qdd = x.qdd;
+        if (chain.active()) chain.close(m, dd, qd, qdd, G);
+        dd.v = qd;
+        model_effort(m, dd, qdd, tau);
+        out.resize(A);
+        if (chain.active()) {
+            const Eigen::VectorXd projected = G.transpose() * tau;
+            for (Eigen::Index a = 0; a < A; ++a) out[a] = projected[actuated_at[size_t(a)]];
+        } else {
+            for (Eigen::Index a = 0; a < A; ++a) out[a] = tau[rows.actuated[size_t(a)]];
+        }
+    };
+    Eigen::VectorXd base, moved;
     for (Eigen::Index s = 0; s < S; ++s) {
         const Sample& x = kept[size_t(s)];
-        rows.q.row(s) = x.q.transpose(), rows.qd.row(s) = x.qd.transpose(), rows.qdd.row(s) = x.qdd.transpose();
+        // Dependent positions start from the last sample's (or the assembly pose at a record's start).
+        const Eigen::VectorXd start = x.first || s == 0 ? m.q_reference : Eigen::VectorXd(d.q);
+        d.q = start;
+        for (int dof : chain.independent) {
+            const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
+            d.q[qi] = x.q[qi];
+        }
+        needed(d, x, base);
+        const Eigen::VectorXd q_full = d.q, qd_full = qd, qdd_full = qdd;
+        const Eigen::MatrixXd G_here = G;
+        rows.q.row(s) = q_full.transpose(), rows.qd.row(s) = qd_full.transpose(), rows.qdd.row(s) = qdd_full.transpose();
         rows.effort.row(s) = x.effort.transpose(), rows.effort_rate.row(s) = x.rate.transpose();
-        d.q = x.q, d.v = x.qd;
-        model_effort(m, d, x.qdd, tau);
-        for (Eigen::Index a = 0; a < A; ++a) rows.model_effort(s, a) = tau[rows.actuated[size_t(a)]];
-        // Sensitivity to each position (a sensor offset shifts the whole motion by it).
-        for (int dof = 0; dof < m.nv; ++dof) {
-            const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(dof)])];
-            const double h = 1e-6 * std::max(1.0, std::abs(x.q[j.q_index]));
-            d.q = x.q;
-            d.q[j.q_index] += h;
-            model_effort(m, d, x.qdd, tau2);
-            for (Eigen::Index a = 0; a < A; ++a)
-                rows.effort_by_position[size_t(dof)](s, a) = (tau2[rows.actuated[size_t(a)]] - tau[rows.actuated[size_t(a)]]) / h;
+        rows.model_effort.row(s) = base.transpose();
+        // Sensitivity to each measured position (a sensor offset shifts the
+        // whole measured motion by it; in a loop the others follow).
+        for (int dof : chain.independent) {
+            const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
+            const double h = 1e-6 * std::max(1.0, std::abs(x.q[qi]));
+            probe.q = q_full;
+            probe.q[qi] += h;
+            Sample shifted = x;
+            shifted.q[qi] += h;
+            needed(probe, shifted, moved);
+            rows.effort_by_position[size_t(dof)].row(s) = ((moved - base) / h).transpose();
         }
         for (size_t b = 0; b < body_models.size(); ++b) {
             sim::Data& bd = body_data[b];
-            bd.q = x.q, bd.v = x.qd;
+            bd.q = q_full, bd.v = qd_full;
             sim::update_kinematics(body_models[b], bd);
-            sim::inverse_dynamics(body_models[b], bd, x.qdd, tau2);
-            for (Eigen::Index a = 0; a < A; ++a) rows.effort_of_body[b + 1](s, a) = tau2[rows.actuated[size_t(a)]];
+            sim::inverse_dynamics(body_models[b], bd, qdd_full, tau);
+            const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
+            for (Eigen::Index a = 0; a < A; ++a)
+                rows.effort_of_body[b + 1](s, a) =
+                    share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
         }
     }
     if (weights) {
