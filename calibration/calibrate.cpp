@@ -1,0 +1,199 @@
+#include "calibration/calibrate.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "calibration/model_extension.h"
+#include "calibration/replay.h"
+#include "core/finding.h"
+
+namespace mbx::calibration {
+
+double relative_error(const std::vector<double>& measured, const std::vector<double>& simulated) {
+    double e = 0, n = 0;
+    for (size_t k = 0; k < measured.size() && k < simulated.size(); ++k) {
+        if (!std::isfinite(simulated[k])) continue;
+        e += (measured[k] - simulated[k]) * (measured[k] - simulated[k]);
+        n += measured[k] * measured[k];
+    }
+    return n > 0 ? 100 * std::sqrt(e / n) : 0;
+}
+
+namespace {
+
+void report(const CalibrateOptions& o, const char* stage, double fraction) {
+    if (o.progress && !o.progress(stage, fraction))
+        throw Error(MBX_ERROR_CANCELLED, Subject::model("calibration"), "calibration cancelled");
+}
+
+// Every `stride`-th sample, so that a plot has about `points` of them.
+size_t stride_for(size_t n, size_t points) { return points > 0 && n > points ? (n + points - 1) / points : 1; }
+
+struct Replayed {
+    std::vector<std::vector<std::vector<double>>> values;  // per record, per compared signal, per sample
+};
+
+Replayed replay_all(const sim::Model& m, const Experiment& e, const std::vector<Record>& records,
+                    const std::vector<ComparedSignal>& compared, const ReplayAdjustments& adjust,
+                    const CalibrateOptions& options, double done, double share) {
+    Replayed r;
+    for (size_t i = 0; i < records.size(); ++i) {
+        report(options, "replay", done + share * double(i) / double(records.size()));
+        r.values.push_back(replay(m, e, records[i], compared, adjust));
+    }
+    return r;
+}
+
+// Errors of one replay of every record, per compared signal and combined by role.
+void score(const Experiment& e, const std::vector<Record>& records, const std::vector<ComparedSignal>& compared,
+           const Replayed& sim, StepErrors& step) {
+    double err[2] = {0, 0}, ref[2] = {0, 0};
+    for (size_t r = 0; r < records.size(); ++r) {
+        const Record& rec = records[r];
+        for (size_t c = 0; c < compared.size(); ++c) {
+            const ComparedSignal& cs = compared[c];
+            const std::vector<double>& meas = rec.find(cs.quantity, cs.dof)->values;
+            const std::vector<double> reference = error_reference(e, rec, cs, meas);
+            const std::vector<double>& s = sim.values[r][c];
+            double ee = 0, nn = 0;
+            size_t count = 0;
+            for (size_t k = 0; k < meas.size(); ++k) {
+                if (!std::isfinite(s[k])) continue;
+                ee += (meas[k] - s[k]) * (meas[k] - s[k]);
+                nn += reference[k] * reference[k];
+                ++count;
+            }
+            SignalError se;
+            se.record = int(r), se.role = rec.role, se.joint = cs.joint, se.quantity = cs.quantity, se.weight = cs.weight;
+            se.relative = nn > 0 ? 100 * std::sqrt(ee / nn) : 0;
+            se.rms = count ? std::sqrt(ee / double(count)) : 0;
+            step.simulated.push_back(se);
+            const int role = rec.role == Role::Fit ? 0 : 1;
+            err[role] += cs.weight * ee, ref[role] += cs.weight * nn;
+        }
+    }
+    step.simulated_fit = ref[0] > 0 ? 100 * std::sqrt(err[0] / ref[0]) : 0;
+    step.simulated_validation = ref[1] > 0 ? 100 * std::sqrt(err[1] / ref[1]) : 0;
+}
+
+std::string step_label(const sim::Model& m, const SelectedCause& c) {
+    if (c.candidate.body >= 0) return c.candidate.cause + " on body '" + m.bodies[size_t(c.candidate.body)].name + "'";
+    return c.candidate.cause + " on joint '" + m.joints[size_t(c.candidate.joint)].name + "'";
+}
+
+std::vector<ResidualCloud> residual_clouds(const sim::Model& m, const RegressionRows& fit, const Identification& id,
+                                           size_t points) {
+    const Eigen::Index A = Eigen::Index(fit.actuated.size());
+    const Eigen::VectorXd y = fit.y();
+    Eigen::VectorXd explained = Eigen::VectorXd::Zero(y.size());
+    for (const SelectedCause& c : id.causes) {
+        const Eigen::MatrixXd cols = c.candidate.columns(fit);
+        for (Eigen::Index p = 0; p < cols.cols() && p < Eigen::Index(c.parameters.size()); ++p)
+            explained += c.parameters[size_t(p)].value * cols.col(p);
+    }
+    std::vector<ResidualCloud> out;
+    const size_t stride = stride_for(size_t(fit.samples), points);
+    for (Eigen::Index a = 0; a < A; ++a) {
+        const int dof = fit.actuated[size_t(a)];
+        const double w = fit.weight[size_t(a)];
+        ResidualCloud rc;
+        rc.joint = m.dof_joint[size_t(dof)];
+        const int qi = m.joints[size_t(rc.joint)].q_index;
+        for (int s = 0; s < fit.samples; s += int(stride)) {
+            rc.velocity.push_back(fit.qd(s, dof));
+            rc.position.push_back(fit.q(s, qi));
+            rc.before.push_back(y[s * A + a] / w);
+            rc.after.push_back((y[s * A + a] - explained[s * A + a]) / w);
+        }
+        out.push_back(std::move(rc));
+    }
+    return out;
+}
+
+}  // namespace
+
+CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base, const Experiment& e,
+                            const CalibrateOptions& options) {
+    const auto started = std::chrono::steady_clock::now();
+    CalibrationResult out;
+    out.mode = e.mode;
+    const sim::Model base_model = sim::build_model(mech, base);
+    const std::vector<Record> records = load_records(e, base_model);
+    const std::vector<ComparedSignal> compared = compared_signals(e, base_model);
+    std::vector<const Record*> fit_records, validation_records;
+    for (const Record& r : records) {
+        (r.role == Role::Fit ? fit_records : validation_records).push_back(&r);
+        out.record_paths.push_back(r.path);
+        out.record_roles.push_back(r.role);
+    }
+    if (fit_records.empty() || validation_records.empty())
+        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("experiment"),
+                    e.path + ": calibration needs at least one fit and one validation record");
+
+    report(options, "identify", 0);
+    const RegressionRows fit = regression_rows(base_model, fit_records, options.identify);
+    const RegressionRows validation = regression_rows(base_model, validation_records, options.identify, &fit.weight);
+    out.identification = identify(base_model, fit, validation, options.identify);
+    const Identification& id = out.identification;
+
+    // Replays before any cause and after each: the simulated gain of every step.
+    const size_t steps = id.causes.size() + 1;
+    Replayed first, last;
+    for (size_t i = 0; i < steps; ++i) {
+        const ModelExtension ext = extend(mech, base, base_model, id, i, fit);
+        const sim::Model model = extended_model(mech, ext, e.mode);
+        Replayed sim = replay_all(model, e, records, compared, ext.adjust, options, double(i) / double(steps),
+                                  1.0 / double(steps));
+        StepErrors step;
+        if (i == 0) {
+            step.label = "baseline";
+            step.fit_error = id.baseline_fit_error, step.validation_error = id.baseline_validation_error;
+        } else {
+            const SelectedCause& c = id.causes[i - 1];
+            step.label = step_label(base_model, c);
+            step.cause = int(i - 1);
+            step.fit_error = c.fit_error, step.validation_error = c.validation_error;
+        }
+        score(e, records, compared, sim, step);
+        out.steps.push_back(std::move(step));
+        if (i == 0) first = sim;
+        if (i + 1 == steps) {
+            last = std::move(sim);
+            out.joints = ext.joints;
+            out.drives = ext.drives;
+            out.unwritten = ext.unwritten;
+            out.warnings = ext.warnings;
+        }
+    }
+    report(options, "replay", 1);
+    out.warnings.insert(out.warnings.begin(), id.warnings.begin(), id.warnings.end());
+    const StepErrors& b = out.steps.front();
+    const StepErrors& f = out.steps.back();
+    if (steps > 1 && f.simulated_validation > b.simulated_validation)
+        out.warnings.push_back("the named causes lower the inverse-dynamics error but not the simulated validation error (" +
+                               std::to_string(b.simulated_validation) + " % -> " + std::to_string(f.simulated_validation) +
+                               " %): the replay is limited by something the catalogue does not hold");
+
+    for (size_t r = 0; r < records.size(); ++r) {
+        const Record& rec = records[r];
+        const size_t stride = stride_for(rec.t.size(), options.plot_points);
+        for (size_t c = 0; c < compared.size(); ++c) {
+            Trace t;
+            t.record = int(r), t.role = rec.role, t.joint = compared[c].joint, t.quantity = compared[c].quantity;
+            const std::vector<double>& meas = rec.find(compared[c].quantity, compared[c].dof)->values;
+            for (size_t k = 0; k < rec.t.size(); k += stride) {
+                if (!in_window(compared[c], rec, k)) continue;
+                t.t.push_back(rec.t[k]);
+                t.measured.push_back(meas[k]);
+                t.baseline.push_back(first.values[r][c][k]);
+                t.calibrated.push_back(last.values[r][c][k]);
+            }
+            out.traces.push_back(std::move(t));
+        }
+    }
+    out.residuals = residual_clouds(base_model, fit, id, options.plot_points);
+    out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return out;
+}
+
+}  // namespace mbx::calibration
