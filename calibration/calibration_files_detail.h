@@ -1,0 +1,38 @@
+// What the three calibration output writers share: units, subjects and
+// labels, so the JSON file, the page and the description agree.
+#pragma once
+#include <string>
+
+#include "calibration/calibrate.h"
+
+namespace mbx::calibration::detail {
+
+// Whether sim joint `j` is prismatic (lengths and forces) rather than
+// revolute (angles and torques); false for an index out of range.
+bool linear_joint(const sim::Model& model, int j);
+
+// SI unit of a quantity on a joint of that kind ("N", "N m", "m/s", ...).
+const char* quantity_unit(Quantity q, bool linear);
+
+const char* role_name(Role r);
+
+// What a cause acts on: a joint (CAD constraint id and name) or a body (CAD
+// part id and name).
+struct CauseSubject {
+    const char* kind = "joint";  // "joint" or "body"
+    std::string id, name;
+};
+CauseSubject cause_subject(const sim::Model& model, const Candidate& c);
+
+// The step that added cause `i` (Identification::causes index), or null.
+const StepErrors* step_of_cause(const CalibrationResult& r, int i);
+
+// "joint <name> (<constraint id>)" for messages and labels.
+std::string joint_label(const sim::Model& model, int j);
+
+// Throws mbx::Error (MBX_ERROR_INVALID_INPUT) when the result refers to a
+// record, joint, body or cause that does not exist, or has no baseline:
+// the writers index with these numbers.
+void check_result(const sim::Model& model, const CalibrationResult& r);
+
+}  // namespace mbx::calibration::detail

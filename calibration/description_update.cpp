@@ -1,0 +1,263 @@
+// description.xml: the input description file with what calibration
+// identified written into it, edited in place with pugixml so that
+// everything it does not change (comments, drives, motions, other joints,
+// the layout) comes through as the user wrote it.
+#include <pugixml.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <vector>
+
+#include "calibration/calibration_files.h"
+#include "calibration/calibration_files_detail.h"
+#include "core/finding.h"
+#include "mechatronics/drive.h"
+#include "mechatronics/xml_text.h"
+#include "report/json_writer.h"
+#include "translator/mechanism.h"
+
+namespace mbx::calibration {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void fail(const std::string& file, int line, const std::string& message) {
+    throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(""), message, file, line);
+}
+
+// Shortest text that reads back as exactly `v` (locale-independent), so the
+// calibrated model is the one whose errors the report gives.
+std::string number_text(double v) {
+    std::string s;
+    append_json_number(s, v);
+    return s;
+}
+
+// The SI factor of a description file's position unit; false if unknown.
+bool unit_factor(const std::string& unit, double& factor) {
+    factor = 1;
+    if (unit.empty() || unit == "rad" || unit == "m") return true;
+    if (unit == "deg") factor = M_PI / 180;
+    else if (unit == "mm") factor = 1e-3;
+    else return false;
+    return true;
+}
+
+// An XML comment may not hold "--" nor end in "-".
+std::string comment_text(std::string s) {
+    for (size_t i; (i = s.find("--")) != std::string::npos;) s.replace(i, 2, "- -");
+    if (!s.empty() && s.back() == '-') s += ' ';
+    return s;
+}
+
+// The element's primitive attribute as JointRef has it (-1: absent).
+int primitive_of(const pugi::xml_node& n) {
+    const pugi::xml_attribute a = n.attribute("primitive");
+    return a ? a.as_int(-1) : -1;
+}
+
+// The <joint> or <drive> element of the root for a constraint and primitive:
+// one naming this primitive, else one naming none (the constraint's only
+// prismatic or revolute primitive).
+pugi::xml_node find_element(const pugi::xml_node& root, const char* element, const std::string& constraint,
+                            int primitive) {
+    pugi::xml_node loose;
+    for (pugi::xml_node n : root.children(element)) {
+        if (constraint != n.attribute("constraint").as_string()) continue;
+        const int p = primitive_of(n);
+        if (p == primitive && p >= 0) return n;
+        if (p < 0 && !loose) loose = n;
+    }
+    return loose;
+}
+
+// Sets a coefficient, or removes it when 0 (its meaning when absent).
+void set_or_remove(pugi::xml_node n, const char* name, double v) {
+    if (v == 0) {
+        n.remove_attribute(name);
+        return;
+    }
+    pugi::xml_attribute a = n.attribute(name);
+    if (!a) a = n.append_attribute(name);
+    a.set_value(number_text(v).c_str());
+}
+
+void set_always(pugi::xml_node n, const char* name, double v) {
+    pugi::xml_attribute a = n.attribute(name);
+    if (!a) a = n.append_attribute(name);
+    a.set_value(number_text(v).c_str());
+}
+
+// Writes `d` into a <joint> element. Coefficients are per rad or per m
+// whatever the element's unit; positions and speeds are in its unit.
+// Limits stay as they were: calibration does not identify them.
+void write_joint(pugi::xml_node n, const sim::JointDynamics& d, const std::string& file, int line) {
+    const std::string unit = n.attribute("unit").as_string();
+    double f = 1;
+    if (!unit_factor(unit, f)) fail(file, line, "unit '" + unit + "' is not rad, deg, m or mm");
+    const double values[] = {d.damping, d.coulomb, d.coulomb_velocity, d.damping_negative, d.coulomb_negative,
+                             d.stribeck, d.stribeck_velocity, d.offset, d.stiffness, d.rest, d.armature};
+    for (double v : values)
+        if (!std::isfinite(v)) fail(file, line, "a calibrated joint dynamics value is not finite");
+    set_or_remove(n, "damping", d.damping);
+    set_or_remove(n, "coulomb", d.coulomb);
+    set_or_remove(n, "coulomb_velocity", d.coulomb_velocity / f);
+    if (d.asymmetric) {
+        // 0 is meaningful here (no friction that way), so it is written.
+        set_always(n, "coulomb_negative", d.coulomb_negative);
+        set_always(n, "damping_negative", d.damping_negative);
+    } else {
+        n.remove_attribute("coulomb_negative");
+        n.remove_attribute("damping_negative");
+    }
+    set_or_remove(n, "stribeck", d.stribeck);
+    set_or_remove(n, "stribeck_velocity", d.stribeck_velocity / f);
+    set_or_remove(n, "offset", d.offset);
+    set_or_remove(n, "stiffness", d.stiffness);
+    set_or_remove(n, "rest", d.rest / f);
+    set_or_remove(n, "armature", d.armature);
+}
+
+// What the file's comment says mbx calibrate changed.
+std::string summary(const sim::Model& model, const CalibrationResult& r, bool described,
+                    const std::vector<std::string>& notes) {
+    std::ostringstream s;
+    s << " Calibrated by mbx calibrate (docs/calibration.md)";
+    if (!r.record_paths.empty()) {
+        s << " from";
+        for (size_t i = 0; i < r.record_paths.size(); ++i)
+            s << (i ? ", " : " ") << r.record_paths[i] << " (" << detail::role_name(r.record_roles[i]) << ")";
+    }
+    s << ".";
+    if (!described)
+        s << " There was no input description, so this file holds joint dynamics only: drives were not described"
+             " (add them, docs/mechatronics.md, for closed-loop runs).";
+    for (const JointUpdate& u : r.joints) {
+        s << "\n     joint " << u.name << " (" << u.constraint_id << "): ";
+        for (size_t i = 0; i < u.causes.size(); ++i) s << (i ? ", " : "") << u.causes[i];
+        if (u.causes.empty()) s << "unchanged causes";
+    }
+    for (const DriveUpdate& d : r.drives)
+        s << "\n     drive " << d.name << " (" << d.constraint_id << "): controller delay " << number_text(d.delay_before)
+          << " s -> " << number_text(d.delay_after) << " s";
+    for (const std::string& n : notes) s << "\n     " << n;
+    for (const UnwrittenCause& u : r.unwritten) {
+        const SelectedCause& c = r.identification.causes[size_t(u.cause)];
+        const detail::CauseSubject subject = detail::cause_subject(model, c.candidate);
+        s << "\n     not in this file: " << c.candidate.cause << " on " << subject.kind << " " << subject.name << " ("
+          << subject.id << "): " << u.reason;
+    }
+    s << "\n";
+    return comment_text(s.str());
+}
+
+// Inserts a new element after `anchor`, on a line of its own with the
+// file's indentation.
+pugi::xml_node insert_element(pugi::xml_node root, pugi::xml_node anchor, const char* name) {
+    pugi::xml_node n = root.insert_child_after(name, anchor);
+    root.insert_child_before(pugi::node_pcdata, n).set_value("\n  ");
+    return n;
+}
+
+// The last child of `root` that is not text (an element or a comment).
+pugi::xml_node last_non_text(const pugi::xml_node& root) {
+    for (pugi::xml_node n = root.last_child(); n; n = n.previous_sibling())
+        if (n.type() != pugi::node_pcdata && n.type() != pugi::node_cdata) return n;
+    return {};
+}
+
+}  // namespace
+
+std::string calibrated_description(const Mechanism& mechanism, const sim::Model& model,
+                                   const CalibrationResult& r, const std::string& input) {
+    detail::check_result(model, r);
+    pugi::xml_document doc;
+    const bool described = !input.empty();
+    const std::string file = described ? input : std::string("description.xml");
+    pugi::xml_node root;
+    if (described) {
+        std::string text;
+        if (!read_text_file(input, text))
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(""), "cannot read the description file '" + input + "'",
+                        input);
+        const XmlLines lines(text);
+        const pugi::xml_parse_result parsed =
+            doc.load_buffer(text.data(), text.size(), pugi::parse_full | pugi::parse_ws_pcdata);
+        if (!parsed) fail(input, lines.line_at(parsed.offset), std::string("not well-formed XML: ") + parsed.description());
+        root = doc.document_element();
+        if (std::string(root.name()) != "mechatronics")
+            fail(input, lines.line(root), "the root element must be <mechatronics>");
+        // Libraries are named relative to the input file; the output lives
+        // elsewhere, so they become absolute.
+        const fs::path base = fs::absolute(fs::path(input)).parent_path();
+        for (pugi::xml_node lib : root.children("library")) {
+            pugi::xml_attribute a = lib.attribute("file");
+            const std::string path = a.as_string();
+            if (!a || path.empty() || fs::path(path).is_absolute()) continue;
+            a.set_value((base / path).lexically_normal().string().c_str());
+        }
+    } else {
+        root = doc.append_child("mechatronics");
+        root.append_attribute("version") = "1";
+        root.append_child(pugi::node_pcdata).set_value("\n");
+    }
+
+    // The comment leads the root's content so a reader sees it first.
+    pugi::xml_node comment = root.prepend_child(pugi::node_comment);
+    std::vector<std::string> notes;
+    root.insert_child_before(pugi::node_pcdata, comment).set_value("\n  ");
+
+    pugi::xml_node last_joint;
+    for (pugi::xml_node n : root.children("joint")) last_joint = n;
+    for (const JointUpdate& u : r.joints) {
+        int primitive = u.primitive;
+        if (u.mechanism_joint >= 0 && size_t(u.mechanism_joint) < mechanism.joints.size())
+            primitive = mechanism.joints[size_t(u.mechanism_joint)].primitive_index;
+        pugi::xml_node n = find_element(root, "joint", u.constraint_id, primitive);
+        if (!n) {
+            n = insert_element(root, last_joint ? last_joint : last_non_text(root), "joint");
+            n.append_attribute("constraint") = u.constraint_id.c_str();
+            n.append_attribute("primitive") = primitive;
+            last_joint = n;
+        }
+        write_joint(n, u.after, file, 0);
+    }
+    for (const DriveUpdate& d : r.drives) {
+        const Drive& drive = model.drives[size_t(d.drive)];
+        ControllerSpec c = drive.spec.controller;
+        c.delay = d.delay_after;
+        if (!std::isfinite(d.delay_after) || d.delay_after < 0 || !delay_in_whole_samples(c))
+            fail(file, 0, "the calibrated delay " + number_text(d.delay_after) + " s of drive " + d.name +
+                              " is not a whole number of its controller's sample periods");
+        pugi::xml_node n = described ? find_element(root, "drive", d.constraint_id, drive.spec.joint.primitive)
+                                     : pugi::xml_node();
+        pugi::xml_node controller = n.child("controller");
+        if (!controller) {
+            // The drive came from elsewhere (the C API): the delay is in the
+            // comment rather than lost with the other files.
+            if (described)
+                notes.push_back("drive " + d.name + " (" + d.constraint_id +
+                                ") is not in this file: set its controller delay by hand");
+            continue;
+        }
+        set_or_remove(controller, "delay", d.delay_after);
+    }
+
+    comment.set_value(summary(model, r, described, notes).c_str());
+
+    std::ostringstream out;
+    if (!described) out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    // Raw, so the root's content keeps the input's own layout; pugixml drops
+    // the line breaks between top-level nodes (declaration, comments, root),
+    // so those go back one per line.
+    for (pugi::xml_node n : doc.children()) {
+        if (n.type() == pugi::node_pcdata) continue;
+        n.print(out, "  ", pugi::format_raw, pugi::encoding_utf8);
+        out << '\n';
+    }
+    return out.str();
+}
+
+}  // namespace mbx::calibration
