@@ -12,7 +12,8 @@
 // Published anchors at 7 DoF: Pinocchio without code generation ~1 us RNEA,
 // ~3 us ABA.
 //
-//   bench_sim [seconds_per_run] [model]   (default 0.3 s, every model)
+//   bench_sim [seconds_per_run] [model] [rk4|euler]   (default 0.3 s, every
+//   model, both integrators; one integrator alone is for profiling)
 #include <mujoco/mujoco.h>
 #include <unistd.h>
 
@@ -165,8 +166,10 @@ void to_mujoco(Case& c, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
 // other load on the machine hits both alike and is mostly filtered out.
 struct Rates {
     double mbx = 0, mujoco = 0;
+    double ratio() const { return mujoco > 0 ? mbx / mujoco : 0; }  // 0: not run
 };
 Rates step_rates(Case& c, mbx::sim::IntegratorKind kind, double seconds) {
+    if (seconds <= 0) return {};
     const long long restart = 1000;
     const int slices = 5;
     Rates r;
@@ -270,6 +273,12 @@ void per_call(Case& c, double seconds) {
 int main(int argc, char** argv) {
     const double seconds = argc > 1 ? std::atof(argv[1]) : 0.3;
     const std::string only = argc > 2 ? argv[2] : "";
+    const std::string integrator = argc > 3 ? argv[3] : "";
+    if (!integrator.empty() && integrator != "rk4" && integrator != "euler") {
+        std::fprintf(stderr, "bench_sim: integrator is rk4 or euler, not '%s'\n", integrator.c_str());
+        return 2;
+    }
+    const double rk4_seconds = integrator == "euler" ? 0 : seconds, euler_seconds = integrator == "rk4" ? 0 : seconds;
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("mbx_bench_sim_" + std::to_string(::getpid()));
     try {
@@ -290,19 +299,19 @@ int main(int argc, char** argv) {
         double per_body_first = 0, per_body_last = 0;
         for (Case& c : cases) {
             if (!only.empty() && c.label != only) continue;
-            const Rates rk4 = step_rates(c, mbx::sim::IntegratorKind::RK4, seconds);
-            const Rates euler = step_rates(c, mbx::sim::IntegratorKind::Euler, seconds);
+            const Rates rk4 = step_rates(c, mbx::sim::IntegratorKind::RK4, rk4_seconds);
+            const Rates euler = step_rates(c, mbx::sim::IntegratorKind::Euler, euler_seconds);
             std::printf("%-14s %4d %5zu | %10.0f %10.0f %6.2f | %10.0f %10.0f %6.2f\n", c.label.c_str(), c.model.nv,
-                        c.model.closures.size(), rk4.mbx, rk4.mujoco, rk4.mbx / rk4.mujoco, euler.mbx, euler.mujoco,
-                        euler.mbx / euler.mujoco);
-            const double per_body = 1.0 / (rk4.mbx * (c.model.body_count() - 1));
+                        c.model.closures.size(), rk4.mbx, rk4.mujoco, rk4.ratio(), euler.mbx, euler.mujoco,
+                        euler.ratio());
+            const double per_body = rk4.mbx > 0 ? 1.0 / (rk4.mbx * (c.model.body_count() - 1)) : 0;
             if (c.label == "chain7") per_body_first = per_body;
             if (c.label == "chain100") per_body_last = per_body;
         }
         if (per_body_first > 0 && per_body_last > 0)
             std::printf("per-body RK4 step time, chain100 / chain7 (1.0 = linear): %.2f\n", per_body_last / per_body_first);
         std::printf("\n");
-        if (only.empty() || only == "chain7") per_call(cases[0], seconds);
+        if ((only.empty() || only == "chain7") && integrator.empty()) per_call(cases[0], seconds);
 
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_sim failed: %s\n", e.what());

@@ -134,6 +134,7 @@ Model build_model(const Mechanism& m, const BuildOptions& options) {
         case JointKind::Fixed: j.subspace.resize(6, 0); break;
         case JointKind::Free: j.subspace.setZero(6, 6); break;  // depends on the state
         }
+        j.prepare_pose();
         model.body_of_source[size_t(src)] = int(model.bodies.size());
         model.bodies.push_back(std::move(body));
         model.joints.push_back(std::move(j));

@@ -54,9 +54,29 @@ template <class S> void update_positions(const ModelT<S>& m, DataT<S>& d) {
     d.x_world[0] = Transform<S>();
     for (size_t b = 1; b < m.bodies.size(); ++b) {
         const JointT<S>& j = m.joints[b - 1];
+        const int parent = m.bodies[b].parent;
+        Transform<S>& x = d.x_parent[b];
+        if (j.pose_prepared) {
+            const S q = d.q[j.q_index];
+            if (j.kind == JointKind::Revolute) {
+                using std::cos;
+                using std::sin;
+                const S s = sin(q), c1 = S(1) - cos(q);
+                x.R = j.pose_R0 + s * j.pose_R1 + c1 * j.pose_R2;
+                x.p = j.pose_p0 + s * j.pose_p1 + c1 * j.pose_p2;
+            } else {
+                x.R = j.pose_R0;
+                x.p = j.pose_p0 + q * j.pose_p1;
+            }
+            if (parent == 0)
+                d.x_world[b] = x;
+            else
+                d.x_world[b] = d.x_world[size_t(parent)] * x;
+            continue;
+        }
         const Transform<S> motion = joint_transform<S>(j.kind, j.axis, d.q.data() + j.q_index);
-        d.x_parent[b] = j.parent_to_joint * motion * j.joint_to_child;
-        d.x_world[b] = d.x_world[size_t(m.bodies[b].parent)] * d.x_parent[b];
+        x = j.parent_to_joint * motion * j.joint_to_child;
+        d.x_world[b] = d.x_world[size_t(parent)] * x;
         if (j.kind == JointKind::Free) {
             // Linear velocity in the parent frame, angular in the body frame.
             SubspaceT<S>& s = d.subspace[b];

@@ -83,6 +83,34 @@ template <class S> struct JointT {
     // The joint's diagonal of the mass matrix at the CAD pose, armature
     // included (1-dof joints): the inertia limits and friction are sized by.
     S reference_inertia = S(0);
+    // x_parent (body in parent) of a revolute or prismatic joint as a
+    // function of q, folded from the frames and axis above by
+    // prepare_pose() (build_model and cast() call it; call it again after
+    // changing them): with K = [axis]x, R(q) = I + sin q K + (1 - cos q) K^2,
+    // so parent_to_joint * (R(q), 0) * joint_to_child has rotation
+    // R0 + sin q R1 + (1 - cos q) R2 and position p0 + sin q p1 +
+    // (1 - cos q) p2; a slider's is (R0, p0 + q p1). Fewer operations than
+    // composing three transforms in the chord steps that close the loops.
+    Mat3T<S> pose_R0, pose_R1, pose_R2;
+    Vec3T<S> pose_p0, pose_p1, pose_p2;
+    bool pose_prepared = false;
+
+    void prepare_pose() {
+        pose_prepared = kind == JointKind::Revolute || kind == JointKind::Prismatic;
+        if (!pose_prepared) return;
+        const Mat3T<S>& P = parent_to_joint.R;
+        pose_R0 = P * joint_to_child.R;
+        pose_p0 = P * joint_to_child.p + parent_to_joint.p;
+        if (kind == JointKind::Prismatic) {
+            pose_R1.setZero(), pose_R2.setZero();
+            pose_p1 = P * axis, pose_p2.setZero();
+            return;
+        }
+        const Mat3T<S> K = skew<S>(axis);
+        const Mat3T<S> PK = P * K, PKK = PK * K;
+        pose_R1 = PK * joint_to_child.R, pose_R2 = PKK * joint_to_child.R;
+        pose_p1 = PK * joint_to_child.p, pose_p2 = PKK * joint_to_child.p;
+    }
 
     template <class T> JointT<T> cast() const {
         JointT<T> r;
@@ -94,6 +122,7 @@ template <class S> struct JointT {
         r.subspace = subspace.template cast<T>();
         r.dynamics = dynamics.template cast<T>();
         r.reference_inertia = T(reference_inertia);
+        if (pose_prepared) r.prepare_pose();
         return r;
     }
     int nq() const { return position_size(kind); }
