@@ -77,12 +77,13 @@ template <class S> struct DataT {
     // its factor after closing the loops (empty: none); the next step starts
     // from them when data.q is still exactly these.
     VecXT<S> q_closed;
-    // Euler: the corrections that closing the loops added to the last two
+    // Euler: the corrections that closing the loops needed on the last three
     // steps' predicted positions (velocity coordinates), how many of them
     // are known (steps that ended where the next began), and the current
     // step's. They change smoothly from step to step, so the next
-    // prediction extrapolates them.
-    VecXT<S> closure_carry, closure_carry_before, closure_moved;
+    // prediction extrapolates them. closure_leftover: the minimum-norm
+    // change that would remove the residual the last step left.
+    VecXT<S> closure_carry, closure_carry_before, closure_carry_oldest, closure_moved, closure_leftover;
     int carry_count = 0;
 
     // Per-dof workspaces (integrators: start state, stage sums).
