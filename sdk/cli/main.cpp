@@ -14,6 +14,9 @@ const char* kUsage =
     "commands:\n"
     "  translate <input> -o <dir>   translate an assembly; writes the report and the exports to <dir>\n"
     "  simulate <input> -o <dir>    simulate an assembly; writes trajectory.csv and simulation.json to <dir>\n"
+    "  calibrate <input> --experiment <file.xml> -o <dir>\n"
+    "                               name and fit what the model misses in measured data; writes\n"
+    "                               calibration.json, calibration.html and description.xml to <dir>\n"
     "  list                         list the built-in assemblies usable as <input>\n"
     "  library <file.xml>...        check object library files and show derived drive quantities\n"
     "\n"
@@ -41,6 +44,7 @@ int main(int argc, char** argv) {
     }
     if (command == "translate") return mbx_cli::run_translate(rest);
     if (command == "simulate") return mbx_cli::run_simulate(rest);
+    if (command == "calibrate") return mbx_cli::run_calibrate(rest);
     if (command == "list") return mbx_cli::run_list(rest);
     if (command == "library") return mbx_cli::run_library(rest);
     std::fprintf(stderr, "mbx: unknown command '%s'\n\n%s", command.c_str(), kUsage);

@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 7u
+#define MBX_ABI_VERSION 8u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -906,6 +906,83 @@ MBX_API mbx_status mbx_sim_run(mbx_context *context, mbx_sim_data *data, const m
                                const char *directory);
 
 /* ------------------------------------------------------------------------ */
+/* Calibration against measured data (docs/calibration.md): replay the model  */
+/* along the records, name the causes it lacks, fit them, prove the gain on   */
+/* the validation records, and write the extended description file.          */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_calibration mbx_calibration;
+
+typedef struct mbx_calibrate_options {
+    uint32_t struct_size;
+    uint32_t flags;             /* MBX_SIM_SET_GRAVITY */
+    double gravity[3];          /* m/s^2, world */
+    const char *experiment;     /* the experiment file (XML); required */
+    /* The description file the mechanism's drives and joint dynamics came
+     * from; description.xml is this file extended. NULL: none (a fresh file
+     * with only the identified joints). */
+    const char *description;
+    /* Folder for calibration.json, calibration.html and description.xml
+     * (created; written as one unit). NULL: no files, results only. */
+    const char *directory;
+} mbx_calibrate_options;
+
+/* Runs the whole loop on `mechanism` with its attached drives and joint
+ * dynamics (mbx_mechanism_set_mechatronics). The context's progress
+ * callback sees the stages "identify" and "replay" and may cancel
+ * (MBX_ERROR_CANCELLED). Bad records or experiment files fail with
+ * MBX_ERROR_INVALID_INPUT naming file and line; a diverging replay with
+ * MBX_ERROR_SIMULATION naming the record and time. Nothing is written on
+ * failure. */
+MBX_API mbx_status mbx_calibrate(mbx_context *context, const mbx_mechanism *mechanism,
+                                 const mbx_calibrate_options *options, mbx_calibration **out_calibration);
+MBX_API void mbx_calibration_destroy(mbx_calibration *calibration);
+
+/* Errors in percent: 100 ||y - y_model|| / ||y|| over the fit and the
+ * validation records; "identification" errors are the inverse-dynamics
+ * effort errors, "simulated" ones come from replays in the experiment's
+ * drive mode over its compared signals. */
+typedef struct mbx_calibration_summary {
+    uint32_t struct_size;
+    uint32_t cause_count;
+    uint32_t warning_count;
+    double baseline_fit_error, baseline_validation_error;   /* identification */
+    double final_fit_error, final_validation_error;
+    double baseline_simulated_fit_error, baseline_simulated_validation_error;
+    double final_simulated_fit_error, final_simulated_validation_error;
+    double noise_level; /* % of the effort no model explains (what the filter removed) */
+    double wall_time;   /* s */
+} mbx_calibration_summary;
+
+typedef struct mbx_calibration_cause {
+    uint32_t struct_size;
+    const char *name;            /* coulomb_friction, viscous_friction, effort_offset, ... */
+    mbx_subject_kind subject_kind; /* MBX_SUBJECT_CONSTRAINT (a joint) or MBX_SUBJECT_RIGID_BODY */
+    const char *subject_id;      /* CAD constraint id, or the body's id */
+    const char *subject_name;
+    const char *evidence;        /* the signature on the residual, in words and numbers */
+    uint32_t parameter_count;
+    int32_t written;             /* 1: held by description.xml; 0: reported only (see the JSON's reason) */
+    double fit_error, validation_error;                     /* identification, after this step */
+    double simulated_fit_error, simulated_validation_error; /* replays, after this step */
+} mbx_calibration_cause;
+
+typedef struct mbx_calibration_parameter {
+    uint32_t struct_size;
+    const char *name; /* e.g. "coulomb", "damping", "offset" */
+    double value;     /* SI */
+    double std_error;
+} mbx_calibration_parameter;
+
+/* Strings stay valid until the calibration is destroyed. */
+MBX_API mbx_status mbx_calibration_get_summary(const mbx_calibration *calibration, mbx_calibration_summary *out);
+MBX_API mbx_status mbx_calibration_get_cause(const mbx_calibration *calibration, uint32_t index,
+                                             mbx_calibration_cause *out);
+MBX_API mbx_status mbx_calibration_get_parameter(const mbx_calibration *calibration, uint32_t cause, uint32_t index,
+                                                 mbx_calibration_parameter *out);
+/* NULL past the last warning. */
+MBX_API const char *mbx_calibration_get_warning(const mbx_calibration *calibration, uint32_t index);
+
+/* ------------------------------------------------------------------------ */
 /* Plugin entry: one exported function returns the whole API as a table, so a */
 /* host can dlopen() the plugin and dlsym() a single name.                    */
 /* ------------------------------------------------------------------------ */
@@ -977,6 +1054,13 @@ typedef struct mbx_api {
     mbx_status (*sim_get_stats)(const mbx_sim_data *, mbx_sim_stats *);
     mbx_status (*sim_run)(mbx_context *, mbx_sim_data *, const mbx_sim_run_options *, const char *);
     mbx_status (*mechatronics_set_joint_dynamics)(mbx_context *, mbx_mechatronics *, const mbx_joint_dynamics_desc *);
+    /* --- version 8 --- */
+    mbx_status (*calibrate)(mbx_context *, const mbx_mechanism *, const mbx_calibrate_options *, mbx_calibration **);
+    void (*calibration_destroy)(mbx_calibration *);
+    mbx_status (*calibration_get_summary)(const mbx_calibration *, mbx_calibration_summary *);
+    mbx_status (*calibration_get_cause)(const mbx_calibration *, uint32_t, mbx_calibration_cause *);
+    mbx_status (*calibration_get_parameter)(const mbx_calibration *, uint32_t, uint32_t, mbx_calibration_parameter *);
+    const char *(*calibration_get_warning)(const mbx_calibration *, uint32_t);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

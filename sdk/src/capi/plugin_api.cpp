@@ -65,6 +65,12 @@ const mbx_api kApi = {
     mbx_sim_get_stats,
     mbx_sim_run,
     mbx_mechatronics_set_joint_dynamics,
+    mbx_calibrate,
+    mbx_calibration_destroy,
+    mbx_calibration_get_summary,
+    mbx_calibration_get_cause,
+    mbx_calibration_get_parameter,
+    mbx_calibration_get_warning,
 };
 
 }  // namespace
