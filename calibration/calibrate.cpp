@@ -141,10 +141,24 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     Replayed first, last;
     for (size_t i = 0; i < steps; ++i) {
         const ModelExtension ext = extend(mech, base, base_model, id, i, fit);
-        const sim::Model model = extended_model(mech, ext, e.mode);
-        Replayed sim = replay_all(model, e, records, compared, ext.adjust, options, double(i) / double(steps),
-                                  1.0 / double(steps));
+        Replayed sim;
         StepErrors step;
+        bool failed = false;
+        try {
+            const sim::Model model = extended_model(mech, ext, e.mode);
+            sim = replay_all(model, e, records, compared, ext.adjust, options, double(i) / double(steps),
+                             1.0 / double(steps));
+        } catch (const Error& err) {
+            // The model as given must replay; a step whose extension does not
+            // is reported, and the causes' inverse-dynamics figures still stand.
+            if (i == 0 || err.status() == MBX_ERROR_CANCELLED) throw;
+            out.warnings.push_back("the replay after naming " + step_label(base_model, id.causes[i - 1]) +
+                                   " failed: " + err.what());
+            failed = true;
+            sim.values.clear();
+            for (const Record& r : records)
+                sim.values.emplace_back(compared.size(), std::vector<double>(r.t.size(), NAN));
+        }
         if (i == 0) {
             step.label = "baseline";
             step.fit_error = id.baseline_fit_error, step.validation_error = id.baseline_validation_error;
@@ -155,6 +169,10 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
             step.fit_error = c.fit_error, step.validation_error = c.validation_error;
         }
         score(e, records, compared, sim, step);
+        if (failed) {
+            for (SignalError& se : step.simulated) se.relative = se.rms = NAN;
+            step.simulated_fit = step.simulated_validation = NAN;
+        }
         out.steps.push_back(std::move(step));
         if (i == 0) first = sim;
         if (i + 1 == steps) {
@@ -162,13 +180,15 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
             out.joints = ext.joints;
             out.drives = ext.drives;
             out.unwritten = ext.unwritten;
-            out.warnings = ext.warnings;
+            out.warnings.insert(out.warnings.end(), ext.warnings.begin(), ext.warnings.end());
         }
     }
     report(options, "replay", 1);
     out.warnings.insert(out.warnings.begin(), id.warnings.begin(), id.warnings.end());
     const StepErrors& b = out.steps.front();
     const StepErrors& f = out.steps.back();
+    if (steps > 1 && std::isnan(f.simulated_validation))
+        out.warnings.push_back("the calibrated model could not be replayed: its errors are those of inverse dynamics only");
     if (steps > 1 && f.simulated_validation > b.simulated_validation)
         out.warnings.push_back("the named causes lower the inverse-dynamics error but not the simulated validation error (" +
                                std::to_string(b.simulated_validation) + " % -> " + std::to_string(f.simulated_validation) +
