@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <string_view>
 
 #include "calibration/calibration_files.h"
@@ -266,8 +267,16 @@ td.n{text-align:right;font-variant-numeric:tabular-nums}svg{display:block;margin
 .w{color:#a33}
 )";
 
+// The record's file name and role: full paths are in the records table and
+// would crowd a plot's title.
+// Records are named relative to the experiment file ("dir/../data/x.csv"):
+// shown normalised (the JSON keeps them as given).
+std::string shown_path(const std::string& path) { return std::filesystem::path(path).lexically_normal().string(); }
+
 std::string record_label(const CalibrationResult& r, int i) {
-    return r.record_paths[size_t(i)] + " (" + role_name(r.record_roles[size_t(i)]) + ")";
+    const std::string& path = r.record_paths[size_t(i)];
+    const size_t slash = path.find_last_of('/');
+    return (slash == std::string::npos ? path : path.substr(slash + 1)) + " (" + role_name(r.record_roles[size_t(i)]) + ")";
 }
 
 // Quantity, unit: "effort [N]".
@@ -386,11 +395,14 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
     const std::string title = "mbx calibration" + (model.name.empty() ? std::string() : ": " + model.name);
     h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + esc(title) +
          "</title>\n<style>\n" + kStyle + "</style></head><body>\n<h1>" + esc(title) + "</h1>\n";
-    h += "<p>Experiment " + esc(experiment.path) + ", driven " + drive_mode_name(r.mode) + ". Calibrated in " +
+    const char* driven = r.mode == DriveMode::ClosedLoop ? "in closed loop (the controller follows the recorded reference)"
+                         : r.mode == DriveMode::Effort ? "by the recorded effort"
+                                                       : "free from the measured initial state";
+    h += "<p>Experiment " + esc(shown_path(experiment.path)) + ", the model driven " + driven + ". Calibrated in " +
          num(r.wall_time, 3) + " s. Noise level (what the filter removed from the effort): " + num(id.noise_level) +
          " %.</p>\n<table><tr><th>record</th><th>role</th></tr>\n";
     for (size_t i = 0; i < r.record_paths.size(); ++i)
-        h += "<tr><td>" + esc(r.record_paths[i]) + "</td><td>" + role_name(r.record_roles[i]) + "</td></tr>\n";
+        h += "<tr><td>" + esc(shown_path(r.record_paths[i])) + "</td><td>" + role_name(r.record_roles[i]) + "</td></tr>\n";
     h += "</table>\n";
 
     const StepErrors &b = r.baseline(), &f = r.final_step();

@@ -128,7 +128,7 @@ std::string summary(const sim::Model& model, const CalibrationResult& r, bool de
     if (!r.record_paths.empty()) {
         s << " from";
         for (size_t i = 0; i < r.record_paths.size(); ++i)
-            s << (i ? ", " : " ") << r.record_paths[i] << " (" << detail::role_name(r.record_roles[i]) << ")";
+            s << (i ? ", " : " ") << fs::path(r.record_paths[i]).lexically_normal().string() << " (" << detail::role_name(r.record_roles[i]) << ")";
     }
     s << ".";
     if (!described)
@@ -142,6 +142,8 @@ std::string summary(const sim::Model& model, const CalibrationResult& r, bool de
     for (const DriveUpdate& d : r.drives)
         s << "\n     drive " << d.name << " (" << d.constraint_id << "): controller delay " << number_text(d.delay_before)
           << " s -> " << number_text(d.delay_after) << " s";
+    for (const BodyUpdate& b : r.bodies)
+        s << "\n     body " << b.name << " (" << b.id << "): mass and inertia times " << number_text(b.factor);
     for (const std::string& n : notes) s << "\n     " << n;
     for (const UnwrittenCause& u : r.unwritten) {
         const SelectedCause& c = r.identification.causes[size_t(u.cause)];
@@ -243,6 +245,27 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
             continue;
         }
         set_or_remove(controller, "delay", d.delay_after);
+    }
+
+    // Body mass corrections compound with the input's (the model calibrated already carried them).
+    pugi::xml_node last_body;
+    for (pugi::xml_node n : root.children("body")) last_body = n;
+    for (const BodyUpdate& b : r.bodies) {
+        if (!(std::isfinite(b.factor) && b.factor > 0))
+            fail(file, 0, "the calibrated mass factor " + number_text(b.factor) + " of body " + b.name + " is not positive");
+        pugi::xml_node n;
+        for (pugi::xml_node e : root.children("body"))
+            if (b.id == e.attribute("id").as_string()) n = e;
+        double scale = b.factor;
+        if (n) {
+            scale *= n.attribute("mass_scale").as_double(1.0);
+        } else {
+            pugi::xml_node anchor = last_body ? last_body : last_joint ? last_joint : last_non_text(root);
+            n = insert_element(root, anchor, "body");
+            n.append_attribute("id") = b.id.c_str();
+            last_body = n;
+        }
+        set_always(n, "mass_scale", scale);
     }
 
     comment.set_value(summary(model, r, described, notes).c_str());

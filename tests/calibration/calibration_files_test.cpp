@@ -11,6 +11,7 @@
 #include <fstream>
 #include <regex>
 
+#include "calibration/calibrate.h"
 #include "calibration/calibration_files.h"
 #include "core/finding.h"
 #include "drives_support.h"
@@ -178,8 +179,9 @@ void check_joint(const ResolvedJointDynamics& r, const JointUpdate& u, double ep
     CHECK(same(r.coulomb, d.coulomb));
     CHECK(same(r.coulomb_velocity, d.coulomb_velocity));
     CHECK(r.asymmetric() == d.asymmetric);
-    CHECK(same(r.damping_negative, d.damping_negative));
-    CHECK(same(r.coulomb_negative, d.coulomb_negative));
+    // Symmetric: the reader gives the negative side the positive values.
+    CHECK(same(r.damping_negative, d.asymmetric ? d.damping_negative : d.damping));
+    CHECK(same(r.coulomb_negative, d.asymmetric ? d.coulomb_negative : d.coulomb));
     CHECK(same(r.stribeck, d.stribeck));
     CHECK(same(r.stribeck_velocity, d.stribeck_velocity));
     CHECK(same(r.offset, d.offset));
@@ -408,4 +410,46 @@ TEST_CASE("calibration files: a failure writes nothing") {
     r = good;
     r.steps.clear();
     expect_nothing(r, kDescription, "no baseline");
+}
+
+// The files of a real run: the EMPS rig's records through the whole loop.
+// Whatever the loop names, the page holds every plot, the JSON parses, and
+// the description read back gives the model the last replay ran with.
+TEST_CASE("calibration files: the EMPS calibration's files") {
+    Fixture f;
+    sim::BuildOptions base;
+    base.drives = xtest::resolve_drive_file(f.mech, kDescription);
+    const CalibrationResult r = calibrate(f.mech, base, f.experiment);
+    REQUIRE_FALSE(r.traces.empty());
+    mbx_test::TempDir dir("mbx_calfiles");
+    const std::string out = dir.file("out");
+    write_calibration_files(out, f.mech, f.model, f.experiment, r, kDescription);
+
+    const std::string h = mbx_test::read_file(out + "/calibration.html");
+    CHECK(count(h, "<svg") == int(r.traces.size() + 2 * r.residuals.size() + 1));
+    CHECK(count(h, "https://") == 0);
+    CHECK(count(h, "http://") == count(h, "<svg"));
+    for (const SelectedCause& c : r.identification.causes) CHECK(h.find(c.candidate.cause) != std::string::npos);
+    // Thinned traces (~1500 points each) keep the page small.
+    CHECK(h.size() < 1000000);
+    MESSAGE("EMPS calibration.html: " << h.size() << " bytes, " << r.traces.size() << " traces, "
+                                      << r.residuals.size() << " residual clouds");
+    if (python3()) {
+        const std::string cmd = "python3 -c 'import json,sys; d = json.load(open(sys.argv[1])); "
+                                "assert len(d[\"causes\"]) == " + std::to_string(r.identification.causes.size()) +
+                                "; assert d[\"baseline\"][\"simulated\"][\"signals\"]' " + out + "/calibration.json";
+        CHECK(std::system(cmd.c_str()) == 0);
+    }
+
+    const ReadBack b = read_back(f.mech, out + "/description.xml");
+    REQUIRE(b.drives.size() == 1);
+    for (const DriveUpdate& d : r.drives) CHECK(b.drives[0].spec.controller.delay == d.delay_after);
+    REQUIRE(b.joints.size() == r.joints.size());
+    for (const JointUpdate& u : r.joints) {
+        const ResolvedJointDynamics* got = nullptr;
+        for (const ResolvedJointDynamics& j : b.joints)
+            if (j.joint == u.mechanism_joint) got = &j;
+        REQUIRE(got);
+        check_joint(*got, u, 0);
+    }
 }
