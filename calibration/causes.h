@@ -20,6 +20,8 @@ struct Candidate {
     int body = -1;       // sim body (mass_error)
     std::vector<std::string> parameters;  // names of the regression coefficients
     double scale = 0;    // a fixed nonlinear setting (Stribeck velocity, the Coulomb law's smoothing speed)
+    // The Stribeck law's smoothing speed of sign(q̇) (0: sign_speed's); refined with `scale`.
+    double smoothing = 0;
     // Columns over `rows` (stacked as RegressionRows::y), one per parameter.
     Eigen::MatrixXd columns(const RegressionRows& rows) const;
     // Coefficients a physical effect can have (friction is dissipative, a

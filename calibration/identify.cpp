@@ -69,14 +69,18 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
     out.baseline_fit_error = percent(y.squaredNorm(), meas);
     out.baseline_validation_error = percent(yv.squaredNorm(), meas_v);
 
-    const std::vector<Candidate> candidates = catalogue(m, fit);
+    std::vector<Candidate> candidates = catalogue(m, fit);
     std::vector<Eigen::MatrixXd> cols, cols_v;
     for (const Candidate& c : candidates) cols.push_back(c.columns(fit)), cols_v.push_back(c.columns(validation));
 
     std::vector<size_t> chosen;
     Eigen::MatrixXd X(y.size(), 0), Xv(yv.size(), 0);
     Fit current = least_squares(X, y, Xv, yv);
+    std::vector<size_t> refused;  // candidates the data could not tell from another
     auto taken = [&](const Candidate& c) {
+        for (size_t k : refused)
+            if (candidates[k].cause == c.cause && candidates[k].joint == c.joint && candidates[k].body == c.body)
+                return true;
         for (size_t k : chosen) {
             const Candidate& o = candidates[k];
             // One law per cause and subject (a single Stribeck speed per joint).
@@ -85,17 +89,97 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         return false;
     };
     for (int round = 0; round < options.max_causes; ++round) {
+        std::vector<double> gain_of(candidates.size(), -INFINITY);
         int best = -1;
         Fit best_fit;
         double best_gain = 0;
+        // One Stribeck grid speed per joint goes on to be refined: the one
+        // that fits best (the refinement spans the grid's spacing).
+        std::vector<char> stribeck_best(candidates.size(), 0);
+        {
+            std::vector<double> best_sse(size_t(m.nv), INFINITY);
+            std::vector<int> best_at(size_t(m.nv), -1);
+            for (size_t k = 0; k < candidates.size(); ++k) {
+                const Candidate& c = candidates[k];
+                if (c.cause != "stribeck_friction" || taken(c)) continue;
+                Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
+                X2 << X, cols[k];
+                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0));
+                if (f.ok && f.sse_fit < best_sse[size_t(c.dof)]) best_sse[size_t(c.dof)] = f.sse_fit, best_at[size_t(c.dof)] = int(k);
+            }
+            for (int k : best_at)
+                if (k >= 0) stribeck_best[size_t(k)] = 1;
+        }
         for (size_t k = 0; k < candidates.size(); ++k) {
-            const Candidate& c = candidates[k];
-            if (taken(c)) continue;
-            Eigen::MatrixXd X2(X.rows(), X.cols() + cols[k].cols()), Xv2(Xv.rows(), Xv.cols() + cols_v[k].cols());
-            X2 << X, cols[k];
-            Xv2 << Xv, cols_v[k];
-            Fit f = least_squares(X2, y, Xv2, yv);
+            if (taken(candidates[k])) continue;
+            if (candidates[k].cause == "stribeck_friction" && !stribeck_best[k]) continue;
+            auto fit_with = [&](const Eigen::MatrixXd& ck, const Eigen::MatrixXd& cvk) {
+                Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
+                X2 << X, ck;
+                Xv2 << Xv, cvk;
+                return least_squares(X2, y, Xv2, yv);
+            };
+            Fit f = fit_with(cols[k], cols_v[k]);
             if (!f.ok) continue;
+            // Nonlinear settings, refined on the fit records along with the causes named so far.
+            if (candidates[k].cause == "delay") {
+                // The exact lag: the column at setting d has the delay as its
+                // coefficient, so d = coefficient is a fixed point (a few
+                // steps from the first-order estimate; the second-order part
+                // of a lag would otherwise pass for an actuator gain).
+                Candidate c = candidates[k];
+                for (int it = 0; it < 8; ++it) {
+                    const double d = f.theta[X.cols()];
+                    if (!(d > 0) || d > 0.5) break;
+                    const bool settled = c.scale > 0 && std::abs(d - c.scale) < 1e-4 * c.scale;
+                    c.scale = d;
+                    const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                    const Fit g = fit_with(ck, cvk);
+                    if (!g.ok) break;
+                    candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+                    if (settled) break;
+                }
+            } else if (candidates[k].cause == "stribeck_friction") {
+                // The Stribeck speed and the sign's smoothing speed (the
+                // breadth of the law's step at zero speed, which trades
+                // against its amplitude): golden-section searches on the fit
+                // error in log speed, alternated, within a factor of the
+                // grid's spacing and of the default smoothing.
+                Candidate c = candidates[k];
+                const double s0 = c.scale, v0 = sign_speed(fit, c.dof);
+                c.smoothing = v0;
+                auto sse = [&](double* setting, double log_speed) {
+                    *setting = std::exp(log_speed);
+                    // A Stribeck dip narrower than a few smoothing speeds is
+                    // the Coulomb law's shape at reversals, not a dip.
+                    if (c.smoothing > c.scale / 3) return double(INFINITY);
+                    const Fit g = fit_with(c.columns(fit), Eigen::MatrixXd::Zero(Xv.rows(), 1));
+                    return g.ok ? g.sse_fit : INFINITY;
+                };
+                auto golden = [&](double* setting, double lo, double hi) {
+                    const double phi = 0.5 * (std::sqrt(5.0) - 1);
+                    double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo), f1 = sse(setting, x1),
+                           f2 = sse(setting, x2);
+                    for (int it = 0; it < 12; ++it) {
+                        if (f1 < f2)
+                            hi = x2, x2 = x1, f2 = f1, x1 = hi - phi * (hi - lo), f1 = sse(setting, x1);
+                        else
+                            lo = x1, x1 = x2, f1 = f2, x2 = lo + phi * (hi - lo), f2 = sse(setting, x2);
+                    }
+                    *setting = std::exp(0.5 * (lo + hi));
+                };
+                // (Speeds within the grid's span: beyond its top the dip spans
+                // the motion and passes for Coulomb and viscous friction.)
+                const double top = 100 * 0.5 * v0, bottom = 100 * 0.02 * v0;
+                for (int pass = 0; pass < 2; ++pass) {
+                    golden(&c.scale, std::log(std::max(bottom, s0 / 2.5)), std::log(std::min(top, s0 * 2.5)));
+                    golden(&c.smoothing, std::log(v0 / 4), std::log(v0 * 4));
+                }
+                const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                const Fit g = fit_with(ck, cvk);
+                if (g.ok && g.sse_fit < f.sse_fit) candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+            }
+            const Candidate& c = candidates[k];
             const Eigen::Index p0 = X.cols(), np = cols[k].cols();
             const Eigen::VectorXd th = f.theta.segment(p0, np);
             bool significant = true;
@@ -111,6 +195,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 out.considered.push_back(s.str());
             }
             if (!significant || !c.physical(th)) continue;
+            gain_of[k] = gain;
             if (gain > best_gain) best = int(k), best_gain = gain, best_fit = f;
         }
         if (best < 0) break;
@@ -120,9 +205,71 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         const double err_new = percent(best_fit.sse_validation, meas_v);
         const Eigen::Index nv = yv.size();
         const bool relative = err_new < (1 - options.min_relative_gain) * err_now;
-        const bool evidence = bic(best_fit.sse_validation, nv, X.cols() + cols[size_t(best)].cols()) <
+        // (A Stribeck law's two refined speeds count as parameters too.)
+        const Eigen::Index settings = candidates[size_t(best)].cause == "stribeck_friction" ? 2 : 0;
+        const bool evidence = bic(best_fit.sse_validation, nv, X.cols() + cols[size_t(best)].cols() + settings) <
                               bic(current.sse_validation, nv, X.cols()) - options.bic_margin;
         if (!relative || !evidence) break;
+        // A rival of another cause or subject that explains about as much
+        // (validation does not prefer the best one beyond the BIC margin)
+        // with a column nearly the same as the best one's (once the named
+        // causes are accounted for): the data cannot tell the two apart.
+        // Exactly the same column (a crank turning about the actuated axis:
+        // its inertia and the armature) is one base parameter, named once
+        // as the first in the catalogue with a warning; merely close ones
+        // are not named at all.
+        {
+            Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qx;
+            if (X.cols() > 0) qx.compute(X);  // (Eigen's QR of no columns faults)
+            auto unexplained = [&](const Eigen::VectorXd& col) -> Eigen::VectorXd {
+                if (X.cols() == 0) return col;
+                return col - X * qx.solve(col);
+            };
+            const Eigen::VectorXd rb = unexplained(cols[size_t(best)].col(0));
+            const Candidate& cb = candidates[size_t(best)];
+            int rival = -1;
+            double rival_r = 0;
+            for (size_t k = 0; k < candidates.size(); ++k) {
+                const Candidate& o = candidates[k];
+                if (int(k) == best || !(gain_of[k] > 0.5 * best_gain) || o.cause == cb.cause) continue;
+                // Told apart when validation prefers the best one strongly (the BIC margin).
+                const double sse_rival = current.sse_validation - gain_of[k];
+                if (bic(sse_rival, nv, 1) - bic(best_fit.sse_validation, nv, 1) > options.bic_margin) continue;
+                const double r = std::abs(correlation(rb, unexplained(cols[k].col(0))));
+                if (r > options.max_rival_correlation && r > rival_r) rival = int(k), rival_r = r;
+            }
+            if (rival >= 0) {
+                const Candidate& o = candidates[size_t(rival)];
+                std::ostringstream s;
+                s.precision(5);
+                s << cb.cause << " on " << subject_text(m, cb) << " and " << o.cause << " on " << subject_text(m, o)
+                  << " have the same signature in these data (r = " << rival_r << ", validation "
+                  << percent(current.sse_validation - best_gain, meas_v) << " % and "
+                  << percent(current.sse_validation - gain_of[size_t(rival)], meas_v) << " %): ";
+                if (rival_r > options.same_column_correlation) {
+                    const int first = std::min(best, rival);
+                    if (first != best) {
+                        // Same column: the same fit with the catalogue's first.
+                        best = first;
+                        Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()),
+                            Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
+                        X2 << X, cols[size_t(best)];
+                        Xv2 << Xv, cols_v[size_t(best)];
+                        best_fit = least_squares(X2, y, Xv2, yv);
+                        if (!best_fit.ok) break;
+                    }
+                    s << "one parameter, named as " << candidates[size_t(best)].cause
+                      << " (the catalogue's simpler cause)";
+                    out.warnings.push_back(s.str());
+                } else {
+                    s << "neither is named";
+                    out.warnings.push_back(s.str());
+                    refused.push_back(size_t(best));
+                    refused.push_back(size_t(rival));
+                    continue;
+                }
+            }
+        }
         const Candidate& c = candidates[size_t(best)];
         SelectedCause sc;
         sc.candidate = c;
@@ -142,8 +289,9 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         X = std::move(X2), Xv = std::move(Xv2);
         current = best_fit;
         sc.fit_error = percent(current.sse_fit, meas);
-        sc.validation_error = err_new;
-        sc.validation_gain = err_now - err_new;
+        // (the fit that is named: the catalogue's first of two alike may have replaced the best)
+        sc.validation_error = percent(best_fit.sse_validation, meas_v);
+        sc.validation_gain = err_now - sc.validation_error;
         out.causes.push_back(std::move(sc));
     }
     // Parameters from the final joint fit, with standard errors; a warning

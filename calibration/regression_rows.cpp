@@ -185,20 +185,28 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             qdd[size_t(dof)] = derivative(qd[size_t(dof)], dt);
         }
         std::vector<std::vector<double>> effort(na), rate(na);
+        const size_t n = r->t.size();
+        const int record = int(rows.record_period.size());
+        rows.record_period.push_back(dt), rows.record_cutoff.push_back(cutoff);
+        rows.record_effort.emplace_back(Eigen::Index(n), Eigen::Index(na));
+        rows.record_velocity.push_back(Eigen::MatrixXd::Zero(Eigen::Index(n), m.nv));
         for (size_t a = 0; a < na; ++a) {
             effort[a] = low_pass(r->find(Quantity::Effort, rows.actuated[a])->values, dt, cutoff);
             rate[a] = derivative(effort[a], dt);
+            for (size_t k = 0; k < n; ++k) rows.record_effort.back()(Eigen::Index(k), Eigen::Index(a)) = effort[a][k];
         }
+        for (int dof : chain.independent)
+            for (size_t k = 0; k < n; ++k) rows.record_velocity.back()(Eigen::Index(k), dof) = qd[size_t(dof)][k];
         // Decimate to about four samples per cutoff period (neighbouring
         // rows of filtered data carry no new information and would make the
         // standard errors look smaller than they are); drop the ends, where
         // the filter and the differences are least certain.
         const size_t step = std::max<size_t>(1, size_t(std::floor(fs / (4 * cutoff))));
         const size_t edge = size_t(std::ceil(fs / cutoff));
-        const size_t n = r->t.size();
         for (size_t k = edge; k + edge < n; k += step) {
             Sample s;
             s.first = k == edge;
+            rows.row_record.push_back(record), rows.row_sample.push_back(int(k));
             s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
             s.effort.resize(long(na)), s.rate.resize(long(na));
             for (int dof : chain.independent) {

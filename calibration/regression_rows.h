@@ -25,6 +25,16 @@ struct RegressionRows {
     std::vector<Eigen::MatrixXd> effort_by_position;
     // Inverse dynamics of one body's inertia alone (gravity included), per body.
     std::vector<Eigen::MatrixXd> effort_of_body;
+    // The filtered signals between the rows, per record: columns that are
+    // nonlinear in the motion are evaluated at the full rate and filtered
+    // like the effort (a friction law's step at a reversal reaches the
+    // filtered effort smoothed), and an exact delay reads the effort between
+    // samples. Per record: full-rate effort (samples x actuated) and speeds
+    // (samples x nv, measured coordinates; zero for a loop's others), its
+    // sample period and filter cutoff; per row: its record and sample.
+    std::vector<Eigen::MatrixXd> record_effort, record_velocity;
+    std::vector<double> record_period, record_cutoff;
+    std::vector<int> row_record, row_sample;
     Eigen::VectorXd y() const;        // weighted residual, stacked sample-major
     Eigen::VectorXd measured() const; // weighted measured effort, same order
 };
@@ -37,10 +47,18 @@ struct IdentifyOptions {
     double min_relative_gain = 0.1;
     double bic_margin = 10;    // and lower the validation BIC by this much (strong evidence)
     int max_causes = 6;
+    // Two causes whose columns (beyond those named) correlate above this
+    // cannot be told apart by the data: neither is named (a warning says so);
+    // above the second they are one parameter, named once.
+    double max_rival_correlation = 0.99;
+    double same_column_correlation = 0.999;
 };
 
-// Rows from records: positions of every coordinate must be measured (trees;
-// loops need the closure-consistent motion: not yet). Throws mbx::Error.
+// Rows from records. Trees: the position of every coordinate must be
+// measured. Closed chains: exactly the loops' independent coordinates
+// (every actuated one among them); the others are solved from the
+// closures, and the efforts are the tree's inverse dynamics projected onto
+// the independent coordinates (docs/calibration.md). Throws mbx::Error.
 RegressionRows regression_rows(const sim::Model& m, const std::vector<const Record*>& records,
                                const IdentifyOptions& options, const std::vector<double>* weights = nullptr);
 

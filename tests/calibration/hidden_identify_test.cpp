@@ -1,0 +1,207 @@
+// The "Hidden effects" requirement on the identification: over the
+// fixed-seed suite of hidden_effect_suite (MuJoCo data from mbx's MJCF
+// export, noise and quantisation), mbx must name the hidden cause on the
+// right joint or body and recover its parameter within the tolerance that
+// docs/calibration.md states per cause, in at least 90 % of the
+// single-effect cases; name nothing on every clean case; and find both
+// effects where two are hidden.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "calibration/identify.h"
+#include "hidden_effects.h"
+#include "sim/build_model.h"
+#include "sim/simulation.h"
+#include "temp_dir.h"
+
+using namespace mbx;
+using namespace mbx::calibration;
+using mbx_test::CaseSpec;
+using mbx_test::GeneratedCase;
+using mbx_test::HiddenEffect;
+
+namespace {
+
+const sim::Model& model_of(const std::string& mechanism) {
+    static std::map<std::string, sim::Model> models;
+    auto it = models.find(mechanism);
+    if (it == models.end()) {
+        auto t = mbx_test::open_mechanism(mechanism);
+        it = models.emplace(mechanism, sim::build_model(*t->mechanism)).first;
+    }
+    return it->second;
+}
+
+// How an identified parameter maps to the generator's truth, and the
+// tolerance docs/calibration.md states for it (relative, of the true value).
+struct Check {
+    const char* estimate;
+    const char* truth;
+    double sign;  // identified = sign * truth (transformed)
+    bool gain;    // the estimate is 1 - gain
+    double tolerance;
+};
+
+Check check_for(const std::string& cause) {
+    // The effort offset is identified as what the measured effort carries
+    // beyond the joint's needs; the generator adds it to the applied effort:
+    // the two are of opposite sign.
+    static const std::map<std::string, Check> table = {
+        {"viscous_friction", {"damping", "damping", 1, false, 0.10}},
+        {"coulomb_friction", {"coulomb", "coulomb", 1, false, 0.10}},
+        {"armature", {"armature", "armature", 1, false, 0.10}},
+        {"mass_error", {"mass_change", "relative_mass_change", 1, false, 0.10}},
+        {"effort_offset", {"offset", "offset", -1, false, 0.10}},
+        {"actuator_gain", {"gain_deficit", "gain", 1, true, 0.10}},
+        {"delay", {"delay", "delay", 1, false, 0.10}},
+        {"sensor_offset", {"offset", "offset", 1, false, 0.10}},
+        {"asymmetric_friction", {"coulomb_asymmetry", "coulomb_asymmetry", 1, false, 0.15}},
+        {"stribeck_friction", {"stribeck", "stribeck", 1, false, 0.20}},
+        {"position_dependent_effort", {"stiffness", "stiffness", 1, false, 0.10}},
+    };
+    return table.at(cause);
+}
+
+bool same_subject(const sim::Model& m, const Candidate& c, const HiddenEffect& h) {
+    if (!h.body_id.empty()) return c.body >= 0 && m.bodies[size_t(c.body)].id == h.body_id;
+    return c.joint >= 0 && c.joint == sim::find_joint(m, h.joint_id);
+}
+
+// Causes that are part of a hidden effect's law besides its own: an
+// asymmetric friction has a symmetric Coulomb part.
+bool companion(const Candidate& c, const HiddenEffect& h) {
+    return h.cause == "asymmetric_friction" && c.cause == "coulomb_friction";
+}
+
+struct Verdict {
+    bool named = false;       // every hidden effect named on its subject, nothing else
+    bool within = false;      // and every parameter within its tolerance
+    std::string text;
+    std::vector<double> errors;  // relative parameter errors, per hidden effect
+};
+
+Verdict judge(const sim::Model& m, const GeneratedCase& g, const Identification& id) {
+    Verdict v;
+    std::ostringstream s;
+    s.precision(4);
+    s << g.name << ": named";
+    for (const SelectedCause& c : id.causes) {
+        s << " " << c.candidate.cause << "(";
+        for (const Estimate& e : c.parameters) s << e.name << "=" << e.value << " ";
+        if (c.candidate.scale > 0) s << "at " << c.candidate.scale;
+        s << ")";
+    }
+    if (id.causes.empty()) s << " nothing";
+    s << " [validation error " << id.baseline_validation_error << " -> " << id.final_validation_error << " %]";
+    v.named = true, v.within = true;
+    std::vector<bool> explained(id.causes.size(), false);
+    for (const HiddenEffect& h : g.hidden) {
+        const Check k = check_for(h.cause);
+        const SelectedCause* found = nullptr;
+        for (size_t i = 0; i < id.causes.size(); ++i) {
+            const Candidate& c = id.causes[i].candidate;
+            if (!same_subject(m, c, h)) continue;
+            if (c.cause == h.cause) found = &id.causes[i], explained[i] = true;
+            if (companion(c, h)) explained[i] = true;
+        }
+        s << "; truth " << h.cause;
+        for (const auto& [name, value] : h.parameters) s << " " << name << "=" << value;
+        if (!found) {
+            v.named = v.within = false;
+            v.errors.push_back(NAN);
+            continue;
+        }
+        double est = NAN;
+        for (const Estimate& e : found->parameters)
+            if (e.name == k.estimate) est = e.value;
+        const double truth = k.gain ? 1 - h.parameter(k.truth) : k.sign * h.parameter(k.truth);
+        const double err = std::fabs(est - truth) / std::fabs(truth);
+        v.errors.push_back(err);
+        s << " (error " << 100 * err << " %)";
+        v.within = v.within && err <= k.tolerance;
+    }
+    for (size_t i = 0; i < id.causes.size(); ++i)
+        if (!explained[i]) v.named = v.within = false;
+    for (const std::string& w : id.warnings) s << "; warning: " << w;
+    v.text = s.str();
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("calibration: the hidden-effect suite names each hidden cause, its subject and its value") {
+    // MBX_HIDDEN_SEED draws other magnitudes, excitations and noise for a
+    // look beyond the fixed suite (the assertions hold for seed 1).
+    const char* seed = std::getenv("MBX_HIDDEN_SEED");
+    const std::vector<CaseSpec> suite = mbx_test::hidden_effect_suite(seed ? unsigned(std::atoi(seed)) : 1u);
+    mbx_test::TempDir dir("mbx_hidden_identify");
+    const auto t0 = std::chrono::steady_clock::now();
+    double identify_seconds = 0;
+    std::map<std::string, std::pair<int, int>> per_mechanism;  // right, total (single effect)
+    int single = 0, single_right = 0, clean = 0, clean_quiet = 0, pairs = 0, pairs_right = 0;
+    std::map<std::string, std::vector<double>> errors;
+    for (const CaseSpec& spec : suite) {
+        const GeneratedCase g = mbx_test::generate_case(spec, dir.file(spec.name));
+        const sim::Model& model = model_of(spec.mechanism);
+        const auto t1 = std::chrono::steady_clock::now();
+        const Experiment e = load_experiment(g.experiment_path);
+        const std::vector<Record> records = load_records(e, model);
+        std::vector<const Record*> fit_records, validation_records;
+        for (const Record& r : records) (r.role == Role::Fit ? fit_records : validation_records).push_back(&r);
+        IdentifyOptions io;
+        Identification id;
+        try {
+            const RegressionRows fit = regression_rows(model, fit_records, io);
+            const RegressionRows val = regression_rows(model, validation_records, io, &fit.weight);
+            id = identify(model, fit, val, io);
+        } catch (const std::exception& x) {
+            FAIL_CHECK(spec.name << ": " << x.what());
+            continue;
+        }
+        identify_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+        const Verdict v = judge(model, g, id);
+        std::string considered;
+        if (!v.within)
+            for (const std::string& c : id.considered) considered += "\n    considered: " + c;
+        MESSAGE((v.within ? "right  " : "WRONG  ") << v.text << considered);
+        if (g.hidden.empty()) {
+            ++clean;
+            clean_quiet += id.causes.empty();
+            CHECK_MESSAGE(id.causes.empty(), v.text);
+        } else if (g.hidden.size() == 1) {
+            ++single;
+            single_right += v.within;
+            auto& pm = per_mechanism[spec.mechanism];
+            pm.first += v.within, ++pm.second;
+            if (v.named) errors[g.hidden[0].cause].push_back(v.errors[0]);
+        } else {
+            ++pairs;
+            pairs_right += v.within;
+            CHECK_MESSAGE(v.within, v.text);
+        }
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::ostringstream summary;
+    summary << "single effects right " << single_right << "/" << single << " (";
+    for (const auto& [mech, rt] : per_mechanism) summary << mech << " " << rt.first << "/" << rt.second << " ";
+    summary << "), clean quiet " << clean_quiet << "/" << clean << ", two effects " << pairs_right << "/" << pairs
+            << "; largest parameter error per cause:";
+    for (const auto& [cause, errs] : errors) {
+        double worst = 0;
+        for (double x : errs) worst = std::max(worst, x);
+        summary << " " << cause << " " << 100 * worst << " %";
+    }
+    summary << "; " << seconds << " s (identification " << identify_seconds << " s)";
+    MESSAGE(summary.str());
+    CHECK(single >= 30);
+    CHECK(clean >= 6);
+    CHECK(pairs >= 3);
+    CHECK(double(single_right) >= 0.9 * double(single));
+    CHECK(clean_quiet == clean);
+    CHECK(pairs_right == pairs);
+}
