@@ -13,6 +13,7 @@
 
 #include "calibration/calibrate.h"
 #include "calibration/calibration_files.h"
+#include "calibration/replay.h"
 #include "core/finding.h"
 #include "drives_support.h"
 #include "export_fixture.h"
@@ -452,4 +453,36 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
         REQUIRE(got);
         check_joint(*got, u, 0);
     }
+
+    // The promise: the description fed back to the simulator
+    // reproduces the calibrated errors. Causes the file cannot hold are
+    // replay adjustments only, and would be missing here.
+    if (!r.unwritten.empty()) {
+        MESSAGE("skipping the replay check: " << r.unwritten.size() << " cause(s) not in the description");
+        return;
+    }
+    sim::BuildOptions options;
+    options.drives = b.drives;
+    options.joint_dynamics = sim::joint_dynamics_by_joint(b.joints);
+    const sim::Model calibrated = sim::build_model(f.mech, options);
+    const std::vector<Record> records = load_records(f.experiment, calibrated);
+    const std::vector<ComparedSignal> compared = compared_signals(f.experiment, calibrated);
+    size_t k = 0;
+    for (const Record& rec : records) {
+        const auto simulated = replay(calibrated, f.experiment, rec, compared, ReplayAdjustments(calibrated.nv));
+        for (size_t c = 0; c < compared.size(); ++c, ++k) {
+            const std::vector<double>& measured = rec.find(compared[c].quantity, compared[c].dof)->values;
+            const std::vector<double> reference = error_reference(f.experiment, rec, compared[c], measured);
+            double e = 0, n = 0;
+            for (size_t i = 0; i < measured.size(); ++i)
+                if (std::isfinite(simulated[c][i]))
+                    e += std::pow(measured[i] - simulated[c][i], 2), n += reference[i] * reference[i];
+            REQUIRE(k < r.final_step().simulated.size());
+            const double relative = 100 * std::sqrt(e / n);
+            INFO(rec.path << ": " << relative << " % from description.xml, " << r.final_step().simulated[k].relative
+                             << " % calibrated");
+            CHECK(relative == doctest::Approx(r.final_step().simulated[k].relative).epsilon(1e-9));
+        }
+    }
+    CHECK(k == r.final_step().simulated.size());
 }
