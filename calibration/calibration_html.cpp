@@ -68,8 +68,14 @@ std::vector<double> ticks(double lo, double hi, int target = 5) {
     const double raw = span / target, mag = std::pow(10.0, std::floor(std::log10(raw)));
     const double frac = raw / mag;
     const double step = (frac < 1.5 ? 1 : frac < 3.5 ? 2 : frac < 7.5 ? 5 : 10) * mag;
-    for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + step * 1e-9; t += step)
+    // Counted in whole steps (t += step could stall where step is below the
+    // spacing of doubles near lo), and never more than a few dozen.
+    const double first = std::ceil(lo / step - 1e-9);
+    for (int k = 0; k < 50; ++k) {
+        const double t = (first + k) * step;
+        if (t > hi + step * 1e-9) break;
         out.push_back(std::abs(t) < step * 1e-9 ? 0.0 : t);
+    }
     return out;
 }
 

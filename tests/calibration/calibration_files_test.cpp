@@ -287,6 +287,19 @@ TEST_CASE("calibration files: calibration.html is one self-contained page with e
     // Small: 600 trace points, 800 residual points.
     CHECK(h.size() < 120000);
     MESSAGE("calibration.html: " << h.size() << " bytes");
+
+    // Awkward data still gives finite plots: a signal flat to 1e-13 of its
+    // level, gaps (NaN, infinity), a constant residual.
+    CalibrationResult odd = r;
+    Trace& t = odd.traces[0];
+    for (size_t i = 0; i < t.t.size(); ++i) t.measured[i] = 1e6 + 1e-7 * double(i % 3);
+    t.calibrated[5] = std::nan(""), t.baseline[7] = INFINITY;
+    std::fill(odd.residuals[0].before.begin(), odd.residuals[0].before.end(), 2.0);
+    odd.steps[2].simulated_fit = std::nan("");
+    const std::string o = calibration_html(f.model, f.experiment, odd);
+    CHECK(count(o, "<svg") == count(h, "<svg"));
+    CHECK(o.find("nan") == std::string::npos);
+    CHECK(o.find("inf") == std::string::npos);
 }
 
 TEST_CASE("calibration files: description.xml round-trips through the SDK's reader (EMPS description)") {
