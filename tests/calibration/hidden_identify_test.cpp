@@ -52,17 +52,17 @@ Check check_for(const std::string& cause) {
     // beyond the joint's needs; the generator adds it to the applied effort:
     // the two are of opposite sign.
     static const std::map<std::string, Check> table = {
-        {"viscous_friction", {"damping", "damping", 1, false, 0.10}},
-        {"coulomb_friction", {"coulomb", "coulomb", 1, false, 0.10}},
-        {"armature", {"armature", "armature", 1, false, 0.10}},
-        {"mass_error", {"mass_change", "relative_mass_change", 1, false, 0.10}},
-        {"effort_offset", {"offset", "offset", -1, false, 0.10}},
-        {"actuator_gain", {"gain_deficit", "gain", 1, true, 0.10}},
-        {"delay", {"delay", "delay", 1, false, 0.10}},
-        {"sensor_offset", {"offset", "offset", 1, false, 0.10}},
-        {"asymmetric_friction", {"coulomb_asymmetry", "coulomb_asymmetry", 1, false, 0.15}},
-        {"stribeck_friction", {"stribeck", "stribeck", 1, false, 0.20}},
-        {"position_dependent_effort", {"stiffness", "stiffness", 1, false, 0.10}},
+        {"viscous_friction", {"damping", "damping", 1, false, 0.03}},
+        {"coulomb_friction", {"coulomb", "coulomb", 1, false, 0.03}},
+        {"armature", {"armature", "armature", 1, false, 0.03}},
+        {"mass_error", {"mass_change", "relative_mass_change", 1, false, 0.03}},
+        {"effort_offset", {"offset", "offset", -1, false, 0.03}},
+        {"actuator_gain", {"gain_deficit", "gain", 1, true, 0.03}},
+        {"delay", {"delay", "delay", 1, false, 0.03}},
+        {"sensor_offset", {"offset", "offset", 1, false, 0.03}},
+        {"asymmetric_friction", {"coulomb_asymmetry", "coulomb_asymmetry", 1, false, 0.05}},
+        {"stribeck_friction", {"stribeck", "stribeck", 1, false, 0.15}},
+        {"position_dependent_effort", {"stiffness", "stiffness", 1, false, 0.03}},
     };
     return table.at(cause);
 }
