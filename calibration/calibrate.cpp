@@ -179,6 +179,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
             last = std::move(sim);
             out.joints = ext.joints;
             out.drives = ext.drives;
+            out.bodies = ext.bodies;
             out.unwritten = ext.unwritten;
             out.warnings.insert(out.warnings.end(), ext.warnings.begin(), ext.warnings.end());
         }

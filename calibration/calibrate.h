@@ -71,6 +71,17 @@ struct JointUpdate {
     std::vector<std::string> causes;  // the named causes it carries
 };
 
+// A body whose mass calibration corrected: the description file's
+// <body id mass_scale> (docs/mechatronics.md) gets `factor` on top of any
+// correction it already holds (the model calibrated already had it).
+struct BodyUpdate {
+    int sim_body = -1;
+    int mechanism_body = -1;  // Mechanism::bodies index
+    std::string id;           // the rigid body's id (its principal CAD part id)
+    std::string name;
+    double factor = 1;        // mass and inertia times this, relative to the model as given
+};
+
 // A drive whose controller delay calibration changed.
 struct DriveUpdate {
     int drive = -1;  // sim::Model::drives index
@@ -79,9 +90,9 @@ struct DriveUpdate {
     double delay_before = 0, delay_after = 0;  // s
 };
 
-// A cause the model file cannot hold (a sensor offset, an actuator gain, a
-// body's mass): identified and reported, applied in the replays, but not in
-// the description file.
+// A cause the model file cannot hold (a sensor offset, an actuator gain):
+// identified and reported, applied in the replays where they can, but not
+// in the description file.
 struct UnwrittenCause {
     int cause = -1;  // Identification::causes index
     std::string reason;
@@ -105,6 +116,7 @@ struct CalibrationResult {
     std::vector<ResidualCloud> residuals;
     std::vector<JointUpdate> joints;
     std::vector<DriveUpdate> drives;
+    std::vector<BodyUpdate> bodies;
     std::vector<UnwrittenCause> unwritten;
     std::vector<std::string> warnings;
     double wall_time = 0;  // s

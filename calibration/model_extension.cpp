@@ -69,9 +69,22 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
         const int dof = c.candidate.dof;
         auto unwritten = [&](const std::string& reason) { ext.unwritten.push_back({int(i), reason}); };
         if (cause == "mass_error") {
-            ext.body_mass_factor[size_t(c.candidate.body)] *= 1 + parameter(c, "mass_change");
-            unwritten("the description file holds no body masses yet: correct the part's mass in the CAD model "
-                      "(factor " + number(1 + parameter(c, "mass_change")) + ")");
+            const int b = c.candidate.body;
+            const double factor = 1 + parameter(c, "mass_change");
+            ext.body_mass_factor[size_t(b)] *= factor;
+            const sim::BodyT<double>& body = model.bodies[size_t(b)];
+            if (body.source < 0) {
+                unwritten("the body has no CAD part to hold a mass correction");
+                continue;
+            }
+            BodyUpdate* u = nullptr;
+            for (BodyUpdate& x : ext.bodies)
+                if (x.sim_body == b) u = &x;
+            if (!u) {
+                ext.bodies.push_back({b, body.source, mech.bodies[size_t(body.source)].id, body.name, 1.0});
+                u = &ext.bodies.back();
+            }
+            u->factor *= factor;
             continue;
         }
         if (cause == "sensor_offset") {

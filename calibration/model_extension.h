@@ -18,6 +18,7 @@ struct ModelExtension {
     ReplayAdjustments adjust;
     std::vector<JointUpdate> joints;
     std::vector<DriveUpdate> drives;
+    std::vector<BodyUpdate> bodies;
     std::vector<UnwrittenCause> unwritten;
     std::vector<std::string> warnings;
 };

@@ -48,6 +48,10 @@ struct mbx_mechanism {
     mutable std::unordered_map<std::string, int> part_index;       // built on the first lookup
     std::vector<mbx::Drive> drives;  // resolved by mbx_mechanism_set_mechatronics
     std::vector<mbx::ResolvedJointDynamics> joint_dynamics;  // idem
+    // Body mass corrections of the attached description, applied to `model`
+    // from the CAD inertia kept here (taken when the first is applied).
+    std::vector<mbx::ResolvedBodyMass> body_masses;
+    std::unique_ptr<mbx::CadInertia> cad_inertia;
 
     // Meshes of rigid body `body`, asked from the host once, then cached.
     // `m` is passed because during translation `model` is not set yet.

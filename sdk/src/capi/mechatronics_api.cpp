@@ -235,6 +235,8 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
         if (!m) {
             mechanism->drives.clear();
             mechanism->joint_dynamics.clear();
+            mechanism->body_masses.clear();
+            if (mechanism->cad_inertia) apply_body_masses(*mechanism->model, *mechanism->cad_inertia, {});
             return;
         }
         std::vector<DriveError> errors;
@@ -256,8 +258,18 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
                                           : Subject{MBX_SUBJECT_FILE, first.file, first.object};
             fail_with(errors, "joint dynamics do not fit the mechanism", &joint);
         }
+        std::vector<ResolvedBodyMass> masses = resolve_body_masses(m->spec.body_masses, *mechanism->model, errors);
+        if (!errors.empty()) {
+            const LibraryError& first = errors.front();
+            const Subject body{MBX_SUBJECT_BODY, first.object, first.object};
+            fail_with(errors, "body corrections do not fit the mechanism", &body);
+        }
         mechanism->drives = std::move(drives);
         mechanism->joint_dynamics = std::move(dynamics);
+        if (!masses.empty() && !mechanism->cad_inertia)
+            mechanism->cad_inertia = std::make_unique<CadInertia>(cad_inertia(*mechanism->model));
+        if (mechanism->cad_inertia) apply_body_masses(*mechanism->model, *mechanism->cad_inertia, masses);
+        mechanism->body_masses = std::move(masses);
     });
 }
 

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "mechatronics/body_mass.h"
 #include "mechatronics/drive_quantities.h"
 #include "mechatronics/joint_dynamics.h"
 #include "mechatronics/joint_ref.h"
@@ -87,6 +88,7 @@ struct MechatronicSpec {
     ObjectLibrary library;
     std::vector<DriveSpec> drives;
     std::vector<JointDynamicsSpec> joint_dynamics;
+    std::vector<BodyMassSpec> body_masses;  // <body> corrections, e.g. written by mbx calibrate
 };
 
 // The joint-level linear servo a drive amounts to, in continuous time and

@@ -31,6 +31,7 @@ const std::map<std::string, std::set<std::string>>& allowed_attributes() {
         {"joint", {"constraint", "primitive", "damping", "coulomb", "coulomb_velocity", "stiffness", "rest", "armature",
                    "lower", "upper", "unit", "offset", "coulomb_negative", "damping_negative", "stribeck",
                    "stribeck_velocity"}},
+        {"body", {"id", "mass_scale"}},
     };
     return table;
 }
@@ -74,7 +75,8 @@ public:
             if (name == "library") library(n);
             else if (name == "drive") drive(n);
             else if (name == "joint") joint(n);
-            else error(n, "", "unknown element <" + name + "> (library, drive, joint)");
+            else if (name == "body") body(n);
+            else error(n, "", "unknown element <" + name + "> (library, drive, joint, body)");
         }
     }
 
@@ -181,6 +183,26 @@ private:
             return -1;
         }
         return int(p);
+    }
+
+    void body(const pugi::xml_node& n) {
+        bad_ = false;
+        BodyMassSpec b;
+        b.file = file_;
+        b.line = lines_.line(n);
+        b.body = n.attribute("id").as_string();
+        const std::string who = !b.body.empty() ? b.body : "<body>";
+        check_attributes(n, who);
+        if (b.body.empty()) error(n, who, "body has no id (the CAD part id of the body)");
+        for (pugi::xml_node c : n.children())
+            if (c.type() == pugi::node_element)
+                error(c, who, "unknown element <" + std::string(c.name()) + "> in a body (it takes attributes only)");
+        b.mass_scale = number(n, "mass_scale", 1, who);
+        if (!(b.mass_scale > 0)) error(n, who, "mass_scale must be positive");
+        if (const auto it = seen_bodies_.find(b.body); it != seen_bodies_.end() && !b.body.empty())
+            error(n, who, "a second <body> for the same body (the first is at line " + std::to_string(it->second) + ")");
+        else seen_bodies_.emplace(b.body, b.line);
+        if (!bad_) spec_.body_masses.push_back(std::move(b));
     }
 
     void joint(const pugi::xml_node& n) {
@@ -303,6 +325,7 @@ private:
     std::vector<DriveError>& errors_;
     std::unordered_map<std::string, int> seen_;         // joint key -> line of its drive
     std::unordered_map<std::string, int> seen_joints_;  // joint key -> line of its <joint>
+    std::unordered_map<std::string, int> seen_bodies_;  // body id -> line of its <body>
     bool bad_ = false;
 };
 

@@ -1,0 +1,111 @@
+// Body mass corrections in the description file (<body id mass_scale>,
+// docs/mechatronics.md): parse errors name file, line and body; resolution
+// finds a body by its own id or any of its parts' ids and refuses the rest;
+// applying scales mass and inertia from the CAD values every time, so a
+// second description does not compound the first.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "assembly_builder.h"
+#include "core/progress.h"
+#include "mechatronics/drive_file.h"
+#include "translator/translate.h"
+
+using namespace mbx;
+
+namespace {
+
+// ground -- R1 -- arm (with a bracket welded on) -- R2 -- forearm
+std::unique_ptr<Mechanism> arm() {
+    test::AssemblyBuilder b;
+    const int ground = b.part("ground", 1, {0, 0, 0}, MBX_BODY_GROUND);
+    const int upper = b.part("upper", 2, {0.5, 0, 0});
+    const int bracket = b.part("bracket", 0.5, {0.5, 0.2, 0});
+    const int fore = b.part("fore", 1, {1.5, 0, 0});
+    b.revolute("R1", ground, upper, {0, 0, 0});
+    b.weld("W1", upper, bracket);
+    b.revolute("R2", upper, fore, {1, 0, 0});
+    Progress progress;
+    return translate_assembly(b.a, {}, TranslateOptions{}, progress);
+}
+
+int body_with_part(const Mechanism& m, const std::string& part) {
+    for (size_t b = 0; b < m.bodies.size(); ++b)
+        for (int p : m.bodies[b].parts)
+            if (m.assembly.parts[size_t(p)].id == part) return int(b);
+    return -1;
+}
+
+std::string texts(const std::vector<DriveError>& errors) {
+    std::string s;
+    for (const DriveError& e : errors) s += e.text() + "\n";
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("body mass: the description's <body> elements, and what is wrong with them") {
+    MechatronicSpec spec;
+    std::vector<DriveError> errors;
+    load_drive_text("<mechatronics version=\"1\">\n"
+                    "  <body id=\"fore\" mass_scale=\"1.25\"/>\n"
+                    "  <body id=\"upper\" mass_scale=\"-1\"/>\n"
+                    "  <body id=\"fore\" mass_scale=\"2\"/>\n"
+                    "  <body mass_scale=\"2\"/>\n"
+                    "  <body id=\"x\" mass=\"2\"/>\n"
+                    "  <body id=\"y\" mass_scale=\"nan\"/>\n"
+                    "</mechatronics>\n",
+                    "d.xml", "", spec, errors);
+    const std::string all = texts(errors);
+    INFO(all);
+    REQUIRE(spec.body_masses.size() == 1);
+    CHECK(spec.body_masses[0].body == "fore");
+    CHECK(spec.body_masses[0].mass_scale == 1.25);
+    CHECK(spec.body_masses[0].line == 2);
+    CHECK(all.find("d.xml:3: upper: mass_scale must be positive") != std::string::npos);
+    CHECK(all.find("d.xml:4: fore: a second <body> for the same body (the first is at line 2)") != std::string::npos);
+    CHECK(all.find("d.xml:5: <body>: body has no id") != std::string::npos);
+    CHECK(all.find("d.xml:6: x: unknown attribute 'mass' on <body>") != std::string::npos);
+    CHECK(all.find("d.xml:7: y: mass_scale = 'nan' is not a number") != std::string::npos);
+}
+
+TEST_CASE("body mass: resolved by body or part id, applied from the CAD inertia") {
+    std::unique_ptr<Mechanism> m = arm();
+    const int upper = body_with_part(*m, "upper"), fore = body_with_part(*m, "fore");
+    REQUIRE(upper >= 0);
+    REQUIRE(body_with_part(*m, "bracket") == upper);  // welded: one body
+    const double upper_mass = m->bodies[size_t(upper)].mass, fore_mass = m->bodies[size_t(fore)].mass;
+    const Mat3 fore_inertia = m->bodies[size_t(fore)].inertia;
+    REQUIRE(upper_mass == doctest::Approx(2.5));
+
+    std::vector<BodyMassSpec> specs = {{"bracket", 0.8, "d.xml", 2}, {"fore", 1.5, "d.xml", 3}};
+    std::vector<LibraryError> errors;
+    const std::vector<ResolvedBodyMass> r = resolve_body_masses(specs, *m, errors);
+    CHECK(errors.empty());
+    REQUIRE(r.size() == 2);
+    CHECK(r[0].body == upper);
+    CHECK(r[1].body == fore);
+
+    const CadInertia cad = cad_inertia(*m);
+    apply_body_masses(*m, cad, r);
+    CHECK(m->bodies[size_t(upper)].mass == doctest::Approx(0.8 * upper_mass));
+    CHECK(m->bodies[size_t(fore)].mass == doctest::Approx(1.5 * fore_mass));
+    CHECK((m->bodies[size_t(fore)].inertia - 1.5 * fore_inertia).norm() < 1e-12);
+    // Again, with only the forearm's: the upper arm is back to its CAD mass, nothing compounds.
+    apply_body_masses(*m, cad, {r[1]});
+    CHECK(m->bodies[size_t(upper)].mass == doctest::Approx(upper_mass));
+    CHECK(m->bodies[size_t(fore)].mass == doctest::Approx(1.5 * fore_mass));
+
+    // Unknown ids, the same body twice (through two of its parts), the ground.
+    specs = {{"nothing", 1.1, "d.xml", 4}, {"upper", 1.1, "d.xml", 5}, {"bracket", 1.2, "d.xml", 6}, {"ground", 2, "d.xml", 7}};
+    errors.clear();
+    const std::vector<ResolvedBodyMass> r2 = resolve_body_masses(specs, *m, errors);
+    CHECK(r2.size() == 1);
+    const std::string all = texts(errors);
+    INFO(all);
+    CHECK(all.find("d.xml:4: nothing: no body or CAD part 'nothing'") != std::string::npos);
+    CHECK(all.find("d.xml:6: bracket: body") != std::string::npos);
+    CHECK(all.find("corrected twice (first at line 5)") != std::string::npos);
+    CHECK(all.find("d.xml:7: ground:") != std::string::npos);
+}
