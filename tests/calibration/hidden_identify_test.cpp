@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "calibration/identify.h"
+#include "core/finding.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
@@ -256,4 +257,28 @@ TEST_CASE("calibration: closed-chain rows solve the four-bar's other joints and 
     CHECK(a_rel < 0.05);
     CHECK(std::sqrt(ad_err / ad_norm) < 1.1 * a_rel + 0.003);
     CHECK(std::sqrt(tau_err / tau_norm) < 1.1 * a_rel + 0.003);
+}
+
+// A closed chain with the wrong coordinates measured is a named error, not a
+// crash or a silent fit.
+TEST_CASE("calibration: closed-chain rows refuse records that do not fix the loop") {
+    const sim::Model& model = model_of("fourbar");
+    REQUIRE(model.nv >= 3);
+    Record r;
+    r.path = "made_up.csv";
+    for (int k = 0; k < 400; ++k) r.t.push_back(1e-3 * k);
+    auto signal = [&](Quantity q, int dof) {
+        Signal s;
+        s.quantity = q, s.dof = dof, s.joint = model.dof_joint[size_t(dof)];
+        for (double t : r.t) s.values.push_back(q == Quantity::Position ? 0.1 * std::sin(6 * t) : std::cos(6 * t));
+        return s;
+    };
+    // Two measured coordinates where the loop leaves one free.
+    r.signals = {signal(Quantity::Position, 0), signal(Quantity::Effort, 0), signal(Quantity::Position, 1)};
+    CHECK_THROWS_WITH_AS(regression_rows(model, {&r}, IdentifyOptions()),
+                         doctest::Contains("the loops leave 1 coordinate(s) free but 2 are measured"), Error);
+    // An effort on a joint whose position is not measured.
+    r.signals = {signal(Quantity::Position, 0), signal(Quantity::Effort, 1)};
+    CHECK_THROWS_WITH_AS(regression_rows(model, {&r}, IdentifyOptions()),
+                         doctest::Contains("has a measured effort but no measured position"), Error);
 }
