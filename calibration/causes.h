@@ -1,8 +1,9 @@
 // The catalogue of physical causes a model may lack (docs/calibration.md):
 // each names its subject (a joint or a body), the parameters it adds and,
 // for the inverse-dynamics regression, the columns whose coefficients they
-// are. Nonlinear parameters (a Stribeck velocity) are chosen from a grid,
-// each grid value a candidate of its own.
+// are. Nonlinear settings start from a grid (Stribeck speeds, each grid value
+// a candidate of its own) or from a first-order column (the delay) and are
+// refined by identify() (calibration/identify.h).
 #pragma once
 #include <Eigen/Dense>
 #include <string>

@@ -2,7 +2,10 @@
 // causes: the residual of calibration/regression_rows.h is regressed on the
 // columns of candidate causes from the catalogue (calibration/causes.h).
 // Causes enter one at a time, largest validation gain first, and only while
-// the gain on the validation records exceeds what noise explains.
+// the gain on the validation records exceeds what noise explains. A delay's
+// lag and a Stribeck law's speeds are refined on the fit records before the
+// candidate is judged; two causes the data cannot tell apart are a warning
+// (docs/calibration.md, "Forward selection").
 #pragma once
 #include "calibration/causes.h"
 #include "calibration/regression_rows.h"
