@@ -97,7 +97,7 @@ struct ClosedChain {
         sim::inverse_dynamics(m, d, Eigen::VectorXd::Zero(m.nv).eval(), tau);
         sim::update_closure_bias(m, d);
         const Eigen::VectorXd ad = cod.solve((d.gamma - Ji * ai).eval());
-        qdd = G * ai;  // independent accelerations; the dependents' velocity-product part below
+        qdd = G * ai;  // the dependents then get their whole solution, velocity-product part included
         for (Eigen::Index k = 0; k < nd; ++k) qdd[dependent[size_t(k)]] = ad[k];
     }
 };
