@@ -121,7 +121,7 @@ public:
                 r.line = line;
                 const std::string file = n.attribute("file").value();
                 if (file.empty()) fail(line, "<record> needs a file");
-                r.path = file.empty() ? file : (std::filesystem::path(file).is_absolute() ? file : (base / file).string());
+                r.path = file.empty() ? file : (std::filesystem::path(file).is_absolute() ? file : (base / file).lexically_normal().string());
                 const std::string role = n.attribute("role").value();
                 if (role == "fit")
                     r.role = Role::Fit;

@@ -170,7 +170,9 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
         } else if (cause == "stribeck_friction") {
             d.stribeck += parameter(c, "stribeck");
             d.stribeck_velocity = parameter(c, "stribeck_velocity", c.candidate.scale);
-            if (d.coulomb == 0 && !(d.asymmetric && d.coulomb_negative > 0)) d.coulomb_velocity = sign_speed(fit, dof);
+            // The law's smoothing of sign(q̇) was refined with the Stribeck speed; it is the joint's law now.
+            if (c.candidate.smoothing > 0) d.coulomb_velocity = c.candidate.smoothing;
+            else if (d.coulomb == 0 && !(d.asymmetric && d.coulomb_negative > 0)) d.coulomb_velocity = sign_speed(fit, dof);
         } else if (cause == "position_dependent_effort") {
             // The actuator holds k q besides the model: a spring k (q - rest) with the same effect.
             const double k = parameter(c, "stiffness");

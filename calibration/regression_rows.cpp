@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "calibration/closed_chain.h"
 #include "calibration/filters.h"
 #include "core/finding.h"
 #include "sim/dynamics.h"
@@ -48,60 +49,6 @@ void model_effort(const sim::Model& m, sim::Data& d, const Eigen::VectorXd& qdd,
     tau -= d.qfrc_passive;
 }
 
-// The motion of a closed chain from its measured (independent) coordinates:
-// the others follow from the loop closures, positions by Gauss-Newton from
-// the last sample's solution (so the solution stays on the assembly's
-// branch), velocities from J v = 0 and accelerations from J a = -Jdot v.
-// With J = [Ji Jd] over independent and dependent coordinates, every motion
-// the loops allow is v = G vi with G = [I; -Jd^+ Ji]. The closure's forces
-// do no work along such motions (J G = 0), so the tree's inverse dynamics
-// tau, which needs the loop forces J^T lambda besides the actuators, gives
-// the actuators' efforts on the independent coordinates as G^T tau.
-struct ClosedChain {
-    std::vector<int> independent, dependent;  // velocity coordinates
-    std::vector<char> fixed;                  // per coordinate: independent
-    sim::ClosureFactor<double> factor;
-
-    bool active() const { return !dependent.empty(); }
-
-    // d.q holds the independent positions and a start for the others; on
-    // return every coordinate of d.q, qd and qdd is closure-consistent.
-    void close(const sim::Model& m, sim::Data& d, Eigen::VectorXd& qd, Eigen::VectorXd& qdd, Eigen::MatrixXd& G) {
-        const Eigen::Index ni = Eigen::Index(independent.size()), nd = Eigen::Index(dependent.size());
-        if (!sim::project_positions(m, d, factor, 1e-11, 50, &fixed))
-            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
-                        "the measured coordinates put the loops where no closure holds (a reading off the mechanism's "
-                        "range, or the wrong joints measured)");
-        d.v.setZero();
-        sim::update_kinematics(m, d);
-        sim::update_closure_jacobian(m, d);
-        Eigen::MatrixXd Ji(d.J.rows(), ni), Jd(d.J.rows(), nd);
-        for (Eigen::Index k = 0; k < ni; ++k) Ji.col(k) = d.J.col(independent[size_t(k)]);
-        for (Eigen::Index k = 0; k < nd; ++k) Jd.col(k) = d.J.col(dependent[size_t(k)]);
-        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Jd);
-        cod.setThreshold(1e-9);
-        if (cod.rank() < nd)
-            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
-                        "the measured coordinates do not fix the loops' other coordinates (at this pose): measure "
-                        "independent coordinates of the loops");
-        const Eigen::MatrixXd Gd = -cod.solve(Ji);
-        G.setZero(m.nv, ni);
-        for (Eigen::Index k = 0; k < ni; ++k) G(independent[size_t(k)], k) = 1;
-        for (Eigen::Index k = 0; k < nd; ++k) G.row(dependent[size_t(k)]) = Gd.row(k);
-        Eigen::VectorXd vi(ni), ai(ni);
-        for (Eigen::Index k = 0; k < ni; ++k) vi[k] = qd[independent[size_t(k)]], ai[k] = qdd[independent[size_t(k)]];
-        qd = G * vi;
-        d.v = qd;
-        sim::update_kinematics(m, d);
-        Eigen::VectorXd tau;
-        sim::inverse_dynamics(m, d, Eigen::VectorXd::Zero(m.nv).eval(), tau);
-        sim::update_closure_bias(m, d);
-        const Eigen::VectorXd ad = cod.solve((d.gamma - Ji * ai).eval());
-        qdd = G * ai;  // the dependents then get their whole solution, velocity-product part included
-        for (Eigen::Index k = 0; k < nd; ++k) qdd[dependent[size_t(k)]] = ad[k];
-    }
-};
-
 }  // namespace
 
 
@@ -115,8 +62,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                         "identification needs one coordinate per joint");
     // Actuated coordinates: those with an effort signal in every record;
     // measured ones: those with a position in every record.
-    ClosedChain chain;
-    chain.fixed.assign(size_t(m.nv), 0);
+    std::vector<char> measured(size_t(m.nv), 0);
     for (int dof = 0; dof < m.nv; ++dof) {
         bool effort = !records.empty(), position = !records.empty();
         for (const Record* r : records) {
@@ -124,41 +70,21 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             position = position && r->find(Quantity::Position, dof);
         }
         if (effort) rows.actuated.push_back(dof);
-        if (position || m.closures.empty()) {
-            chain.independent.push_back(dof);
-            chain.fixed[size_t(dof)] = 1;
-        } else {
-            chain.dependent.push_back(dof);
-        }
+        measured[size_t(dof)] = position;
     }
     if (rows.actuated.empty())
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "no joint has a measured effort in every record");
     for (int dof : rows.actuated)
-        if (!chain.fixed[size_t(dof)])
+        if (!measured[size_t(dof)] && !m.closures.empty())
             throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(m.dof_joint[size_t(dof)])].subject(),
                         "joint '" + m.joints[size_t(m.dof_joint[size_t(dof)])].name +
                             "' has a measured effort but no measured position in every record");
+    ClosedChain chain = closed_chain(m, measured);
     const size_t na = rows.actuated.size();
     std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
     for (size_t a = 0; a < na; ++a)
         actuated_at[a] = Eigen::Index(std::find(chain.independent.begin(), chain.independent.end(), rows.actuated[a]) -
                                       chain.independent.begin());
-    if (chain.active()) {
-        // As many measured coordinates as the loops leave free (at the assembly pose).
-        sim::Data d(m);
-        d.q = m.q_reference;
-        sim::update_positions(m, d);
-        sim::update_closure_jacobian(m, d);
-        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(d.J);
-        qr.setThreshold(1e-9);
-        const int mobility = m.nv - int(qr.rank());
-        if (int(chain.independent.size()) != mobility)
-            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
-                        "the loops leave " + std::to_string(mobility) + " coordinate(s) free but " +
-                            std::to_string(chain.independent.size()) +
-                            " are measured: identification of a closed chain needs the positions of exactly its "
-                            "independent coordinates");
-    }
 
     std::vector<sim::Model> body_models;
     for (int b = 1; b < m.body_count(); ++b) body_models.push_back(only_body(m, b));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "calibration/closed_chain.h"
 #include "calibration/filters.h"
 #include "core/finding.h"
 #include "sim/dynamics.h"
@@ -195,31 +196,49 @@ void inverse_effort(const sim::Model& m, const Record& r, const std::vector<Comp
     bool any = false;
     for (const ComparedSignal& c : compared) any = any || c.quantity == Quantity::Effort;
     if (!any) return;
-    if (!m.closures.empty())
-        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
-                    "efforts compared by inverse dynamics along a model with loops are not supported yet");
     const MeasuredMotion mm = measured_motion(m, r, true);
+    std::vector<char> measured(size_t(m.nv), 0);
+    for (int dof = 0; dof < m.nv; ++dof) measured[size_t(dof)] = !mm.q[size_t(dof)].empty();
     for (int dof = 0; dof < m.nv; ++dof)
-        if (mm.q[size_t(dof)].empty())
+        if (!measured[size_t(dof)] && m.closures.empty())
             throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(m.dof_joint[size_t(dof)])].subject(),
                         r.path + ": joint '" + m.joints[size_t(m.dof_joint[size_t(dof)])].name +
                             "' has no measured position, which inverse dynamics along the measured motion needs");
+    // A closed chain's other coordinates follow from its loops; its
+    // actuators' efforts are the tree's projected onto the measured ones.
+    ClosedChain chain = closed_chain(m, measured);
     const size_t n = r.t.size();
     sim::Data d(m);
-    Eigen::VectorXd qdd(m.nv), tau(m.nv);
-    std::vector<std::vector<double>> tau_joint(size_t(m.nv), std::vector<double>(n));
+    d.q = m.q_reference;
+    Eigen::VectorXd qd(m.nv), qdd(m.nv), tau(m.nv);
+    Eigen::MatrixXd G;
+    std::vector<std::vector<double>> tau_joint(size_t(m.nv), std::vector<double>(n, NAN));
     for (size_t k = 0; k < n; ++k) {
-        for (int dof = 0; dof < m.nv; ++dof) {
+        qd.setZero(), qdd.setZero();
+        for (int dof : chain.independent) {
             const int j = m.dof_joint[size_t(dof)];
             d.q[m.joints[size_t(j)].q_index] = mm.q[size_t(dof)][k] - adjust.sensor_offset[size_t(dof)];
-            d.v[dof] = mm.qd[size_t(dof)][k];
+            qd[dof] = mm.qd[size_t(dof)][k];
             qdd[dof] = mm.qdd[size_t(dof)][k];
         }
+        if (chain.active()) {
+            try {
+                chain.close(m, d, qd, qdd, G);
+            } catch (const Error& e) {
+                throw Error(e.status(), e.subject(), r.path + " at t = " + std::to_string(r.t[k]) + " s: " + e.what());
+            }
+        }
+        d.v = qd;
         sim::update_kinematics(m, d);
         sim::inverse_dynamics(m, d, qdd, tau);
         sim::passive_forces(m, d, sim::FrictionLaw::Regularised);
         tau -= d.qfrc_passive;
-        for (int dof = 0; dof < m.nv; ++dof) tau_joint[size_t(dof)][k] = tau[dof];
+        if (chain.active()) {
+            const Eigen::VectorXd ti = G.transpose() * tau;
+            for (size_t i = 0; i < chain.independent.size(); ++i) tau_joint[size_t(chain.independent[i])][k] = ti[Eigen::Index(i)];
+        } else {
+            for (int dof = 0; dof < m.nv; ++dof) tau_joint[size_t(dof)][k] = tau[dof];
+        }
     }
     for (size_t c = 0; c < compared.size(); ++c) {
         if (compared[c].quantity != Quantity::Effort) continue;
