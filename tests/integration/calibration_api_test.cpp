@@ -8,6 +8,7 @@
 #include <dlfcn.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -200,4 +201,46 @@ TEST_CASE("calibration api: bad arguments, bad files and cancellation write noth
     CHECK(calls == 2);
     CHECK(c == nullptr);
     CHECK(!fs::exists(fs::path(out) / "calibration.json"));
+}
+
+TEST_CASE("calibration api: a description's <body mass_scale> corrects the attached mechanism, every time from CAD") {
+    const mbx_api& a = api();
+    mbx_test::TempDir dir("mbx_body_mass_api");
+    auto e = open_emps(kDrives);
+    // The carriage: the one dynamic body with mass.
+    uint32_t carriage = UINT32_MAX;
+    mbx_rigid_body_info info{};
+    info.struct_size = sizeof info;
+    for (uint32_t b = 0; a.mechanism_get_rigid_body(e->mechanism.get(), b, &info) == MBX_OK; ++b)
+        if (info.kind == MBX_RIGID_BODY_DYNAMIC && info.mass > 0) carriage = b;
+    REQUIRE(carriage != UINT32_MAX);
+    const mbx_rigid_body_info cad = rigid_body(e->mechanism.get(), carriage);
+    // A description that corrects the carriage's mass, keyed by its part id.
+    const std::string path = (dir.path / "d.xml").string();
+    std::ofstream(path) << "<mechatronics version=\"1\"><body id=\"" << cad.id << "\" mass_scale=\"1.5\"/></mechatronics>";
+    mbx_mechatronics* mt = nullptr;
+    REQUIRE(a.mechatronics_create(e->ctx(), &mt) == MBX_OK);
+    std::unique_ptr<mbx_mechatronics, MechatronicsDeleter> owned(mt);
+    REQUIRE_MESSAGE(a.mechatronics_load_drives(e->ctx(), mt, path.c_str()) == MBX_OK, a.context_last_error(e->ctx()));
+    for (int twice = 0; twice < 2; ++twice) {  // attaching again does not compound
+        REQUIRE(a.mechanism_set_mechatronics(e->ctx(), e->mechanism.get(), mt) == MBX_OK);
+        const mbx_rigid_body_info now = rigid_body(e->mechanism.get(), carriage);
+        CHECK(now.mass == doctest::Approx(1.5 * cad.mass));
+        CHECK(now.inertia[0] == doctest::Approx(1.5 * cad.inertia[0]));
+        CHECK(now.com[0] == cad.com[0]);
+    }
+    // Detached: the CAD mass again.
+    REQUIRE(a.mechanism_set_mechatronics(e->ctx(), e->mechanism.get(), nullptr) == MBX_OK);
+    CHECK(rigid_body(e->mechanism.get(), carriage).mass == cad.mass);
+    // An unknown body: refused with the file and line, nothing changed.
+    std::ofstream(path) << "<mechatronics version=\"1\">\n<body id=\"no_such_part\" mass_scale=\"2\"/>\n</mechatronics>";
+    mbx_mechatronics* bad = nullptr;
+    REQUIRE(a.mechatronics_create(e->ctx(), &bad) == MBX_OK);
+    std::unique_ptr<mbx_mechatronics, MechatronicsDeleter> owned_bad(bad);
+    REQUIRE(a.mechatronics_load_drives(e->ctx(), bad, path.c_str()) == MBX_OK);
+    CHECK(a.mechanism_set_mechatronics(e->ctx(), e->mechanism.get(), bad) == MBX_ERROR_INVALID_INPUT);
+    const std::string message = a.context_last_error(e->ctx());
+    CHECK(message.find("d.xml:2") != std::string::npos);
+    CHECK(message.find("no_such_part") != std::string::npos);
+    CHECK(rigid_body(e->mechanism.get(), carriage).mass == cad.mass);
 }
