@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "assembly/host_reader.h"
 #include "stub_assembly.h"
@@ -217,6 +218,115 @@ TEST_CASE("host tables too small or without required callbacks are refused") {
     } catch (const Error& e) {
         CHECK(e.status() == MBX_ERROR_INVALID_ARGUMENT);
         CHECK(std::string(e.what()).find("get_primitive") != std::string::npos);
+    }
+}
+
+// Found by fuzz/fuzz_host_table: a count is the host's word, not a size to
+// allocate before the first call; a host that claims 2^64-1 bodies, frames or
+// constraints (a garbage out-parameter) must fail at the first item it cannot
+// deliver, with the host's own message, instead of exhausting memory.
+TEST_CASE("a host count far beyond what it delivers fails at the first missing item") {
+    mbx_stub::Host host(small_assembly());
+    const auto huge = [](void*, size_t* n) -> int {
+        *n = ~size_t(0);
+        return 0;
+    };
+    struct Case {
+        int (*mbx_host::*count)(void*, size_t*);
+        const char* missing;
+    };
+    for (const Case& c : {Case{&mbx_host::body_count, "body #2"}, Case{&mbx_host::frame_count, "frame #2"},
+                          Case{&mbx_host::constraint_count, "constraint #1"}}) {
+        CAPTURE(c.missing);
+        mbx_host table = *host.table();
+        table.*c.count = huge;
+        Progress progress;
+        Findings f;
+        try {
+            read_host(&table, {}, progress, f);
+            FAIL("accepted a count the host cannot deliver");
+        } catch (const Error& e) {
+            CHECK(e.status() == MBX_ERROR_HOST_CALLBACK);
+            CHECK(std::string(e.what()).find(c.missing) != std::string::npos);
+            CHECK(std::string(e.what()).find("memory host: no") != std::string::npos);
+        }
+    }
+}
+
+// Found by fuzz/fuzz_host_table: a C host may put any int into an enum field,
+// and the reader must judge it as an int (loading it as the C++ enum type is
+// undefined behaviour, which UBSan stops on). Out-of-range frame references,
+// primitive types and axis references are refused by name; a diagnostic's
+// severity and subject kind fall back to a warning about nothing in particular.
+namespace {
+const mbx_host* g_wrapped = nullptr;
+int g_enum_value = 0;
+enum class EnumField { FrameReference, PrimitiveType, AxisReference, Diagnostic };
+EnumField g_field = EnumField::FrameReference;
+
+void put_int(void* field, int v) { std::memcpy(field, &v, sizeof v); }
+
+int odd_frame(void* u, size_t i, mbx_frame_desc* out, char* m, size_t n) {
+    const int r = g_wrapped->get_frame(u, i, out, m, n);
+    if (g_field == EnumField::FrameReference) put_int(&out->reference, g_enum_value);
+    return r;
+}
+int odd_primitive(void* u, size_t c, size_t k, mbx_primitive_desc* out, char* m, size_t n) {
+    const int r = g_wrapped->get_primitive(u, c, k, out, m, n);
+    if (g_field == EnumField::PrimitiveType) put_int(&out->type, g_enum_value);
+    if (g_field == EnumField::AxisReference) put_int(&out->axis_reference, g_enum_value);
+    return r;
+}
+int odd_diagnostic(void* u, size_t i, mbx_host_diagnostic* out) {
+    const int r = g_wrapped->get_diagnostic(u, i, out);
+    put_int(&out->severity, g_enum_value);
+    put_int(&out->subject_kind, g_enum_value);
+    return r;
+}
+}  // namespace
+
+TEST_CASE("enum fields outside their range are judged as ints: refused by name, or a plain warning") {
+    mbx_stub::Assembly a = small_assembly();
+    mbx_stub::Diagnostic d;
+    d.code = "odd";
+    d.message = "a diagnostic with nonsense enums";
+    a.diagnostics = {d};
+    mbx_stub::Host host(a);
+    g_wrapped = host.table();
+    mbx_host table = *host.table();
+    table.get_frame = odd_frame;
+    table.get_primitive = odd_primitive;
+    table.get_diagnostic = odd_diagnostic;
+    struct Case {
+        EnumField field;
+        const char* says;
+    };
+    for (int value : {-4, 99, 1 << 30}) {
+        g_enum_value = value;
+        for (const Case& c : {Case{EnumField::FrameReference, "has unknown reference "},
+                              Case{EnumField::PrimitiveType, "has unknown type "},
+                              Case{EnumField::AxisReference, "has unknown axis reference "}}) {
+            g_field = c.field;
+            CAPTURE(value);
+            CAPTURE(c.says);
+            Progress progress;
+            Findings f;
+            try {
+                read_host(&table, {}, progress, f);
+                FAIL("accepted an enum value outside its range");
+            } catch (const Error& e) {
+                CHECK(e.status() == MBX_ERROR_INVALID_INPUT);
+                CHECK(std::string(e.what()).find(c.says + std::to_string(value)) != std::string::npos);
+            }
+        }
+        g_field = EnumField::Diagnostic;
+        Progress progress;
+        Findings f;
+        read_host(&table, {}, progress, f);
+        REQUIRE(f.size() == 1);
+        CHECK(f[0].severity == MBX_SEVERITY_WARNING);
+        CHECK(f[0].subject.kind == MBX_SUBJECT_NONE);
+        CHECK(f[0].message == "a diagnostic with nonsense enums");
     }
 }
 

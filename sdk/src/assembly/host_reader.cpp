@@ -9,6 +9,20 @@ namespace {
 
 constexpr size_t kMessageSize = 512;
 constexpr uint32_t kMaxChain = 16;  // longer chains are a host bug, not a joint
+// A host's count is only a promise: reserve at most this much up front, so a
+// wrong (huge) count fails at the first item the host cannot deliver rather
+// than exhausting memory before the first call.
+constexpr size_t kMaxReserve = size_t(1) << 16;
+size_t reservable(size_t n) { return n < kMaxReserve ? n : kMaxReserve; }
+// A C host may store any int in an enum field; loading that as the C++ enum
+// type is undefined behaviour, so enum fields are read as the int they are.
+template <class E>
+int enum_int(const E& field) {
+    static_assert(sizeof(E) == sizeof(int), "C enums are ints on the supported ABIs");
+    int v;
+    std::memcpy(&v, &field, sizeof v);
+    return v;
+}
 
 std::string str(const char* s) { return s ? std::string(s) : std::string(); }
 
@@ -131,12 +145,13 @@ private:
             if (host_->get_diagnostic(host_->user_data, i, &d) != 0)
                 throw Error(MBX_ERROR_HOST_CALLBACK, {}, "host failed to deliver diagnostic #" + std::to_string(i));
             Finding f;
-            f.severity = d.severity >= MBX_SEVERITY_INFO && d.severity <= MBX_SEVERITY_ERROR ? d.severity
-                                                                                             : MBX_SEVERITY_WARNING;
+            const int severity = enum_int(d.severity), kind = enum_int(d.subject_kind);
+            f.severity = severity >= MBX_SEVERITY_INFO && severity <= MBX_SEVERITY_ERROR ? mbx_severity(severity)
+                                                                                         : MBX_SEVERITY_WARNING;
             f.code = MBX_FINDING_HOST_DIAGNOSTIC;
             f.code_text = str(d.code);
-            f.subject = {d.subject_kind >= MBX_SUBJECT_NONE && d.subject_kind <= MBX_SUBJECT_MODEL ? d.subject_kind
-                                                                                                   : MBX_SUBJECT_NONE,
+            f.subject = {kind >= MBX_SUBJECT_NONE && kind <= MBX_SUBJECT_MODEL ? mbx_subject_kind(kind)
+                                                                               : MBX_SUBJECT_NONE,
                          str(d.subject_id), str(d.subject_name)};
             f.message = str(d.message);
             f.file = str(d.file);
@@ -165,8 +180,8 @@ private:
 
     void read_bodies() {
         size_t n = count(host_->body_count, "body");
-        out_.parts.reserve(n);
-        body_index_.reserve(n);
+        out_.parts.reserve(reservable(n));
+        body_index_.reserve(reservable(n));
         progress_.stage("pull bodies", n);
         for (size_t i = 0; i < n; ++i) {
             const auto d = fetch<mbx_body_desc>(i, MBX_SUBJECT_BODY, "body", [&](mbx_body_desc* out, char* msg) {
@@ -202,8 +217,8 @@ private:
 
     void read_frames() {
         size_t n = count(host_->frame_count, "frame");
-        out_.frames.reserve(n);
-        frame_index_.reserve(n);
+        out_.frames.reserve(reservable(n));
+        frame_index_.reserve(reservable(n));
         progress_.stage("pull frames", n);
         for (size_t i = 0; i < n; ++i) {
             const auto d = fetch<mbx_frame_desc>(i, MBX_SUBJECT_FRAME, "frame", [&](mbx_frame_desc* out, char* msg) {
@@ -226,13 +241,14 @@ private:
             Pose local;
             local.position = Vec3(d.pose.position[0], d.pose.position[1], d.pose.position[2]) * units_length(d.units);
             local.rotation = rotation(d.pose.rotation, s, "frame");
-            if (d.reference == MBX_FRAME_IN_BODY)
+            const int reference = enum_int(d.reference);
+            if (reference == MBX_FRAME_IN_BODY)
                 f.world = out_.parts[size_t(f.part)].pose * local;
-            else if (d.reference == MBX_FRAME_IN_WORLD)
+            else if (reference == MBX_FRAME_IN_WORLD)
                 f.world = local;
             else
                 throw Error(MBX_ERROR_INVALID_INPUT, s,
-                            "frame '" + f.id + "' has unknown reference " + std::to_string(int(d.reference)));
+                            "frame '" + f.id + "' has unknown reference " + std::to_string(reference));
             frame_length_unit_.push_back(units_length(d.units));
             out_.frames.push_back(std::move(f));
             progress_.tick();
@@ -250,9 +266,9 @@ private:
 
     void read_constraints() {
         size_t n = count(host_->constraint_count, "constraint");
-        out_.constraints.reserve(n);
+        out_.constraints.reserve(reservable(n));
         std::unordered_map<std::string, int> ids;
-        ids.reserve(n);
+        ids.reserve(reservable(n));
         progress_.stage("pull constraints", n);
         for (size_t i = 0; i < n; ++i) {
             const auto d = fetch<mbx_constraint_desc>(
@@ -294,17 +310,18 @@ private:
         if (host_->get_primitive(host_->user_data, ci, k, &d, message, sizeof message) != 0)
             callback_failed(s, where, message);
         Primitive p;
-        if (d.type < MBX_PRIMITIVE_WELD || d.type > MBX_PRIMITIVE_SPHERICAL)
-            throw Error(MBX_ERROR_INVALID_INPUT, s, where + " has unknown type " + std::to_string(int(d.type)));
-        p.type = d.type;
+        const int type = enum_int(d.type), axis_reference = enum_int(d.axis_reference);
+        if (type < MBX_PRIMITIVE_WELD || type > MBX_PRIMITIVE_SPHERICAL)
+            throw Error(MBX_ERROR_INVALID_INPUT, s, where + " has unknown type " + std::to_string(type));
+        p.type = mbx_primitive_type(type);
         require_finite(d.axis, 3, s, "joint axis");
         if (p.type == MBX_PRIMITIVE_REVOLUTE || p.type == MBX_PRIMITIVE_PRISMATIC) {
             Vec3 axis(d.axis[0], d.axis[1], d.axis[2]);
-            if (d.axis_reference == MBX_AXIS_IN_BASE_FRAME)
+            if (axis_reference == MBX_AXIS_IN_BASE_FRAME)
                 axis = base.world.rotation * axis;
-            else if (d.axis_reference != MBX_AXIS_IN_WORLD)
+            else if (axis_reference != MBX_AXIS_IN_WORLD)
                 throw Error(MBX_ERROR_INVALID_INPUT, s,
-                            where + " has unknown axis reference " + std::to_string(int(d.axis_reference)));
+                            where + " has unknown axis reference " + std::to_string(axis_reference));
             const double norm = axis.norm();
             if (!(norm > 1e-9))
                 throw Error(MBX_ERROR_INVALID_INPUT, s, where + " has a zero-length axis");
