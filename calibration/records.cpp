@@ -33,8 +33,15 @@ int Table::column(const std::string& name) const {
 }
 
 Table read_csv(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(MBX_ERROR_IO, Subject::model("experiment"), "cannot read the record '" + path + "'", path);
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw Error(MBX_ERROR_IO, Subject::model("experiment"), "cannot read the record '" + path + "'", path);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return read_csv_text(text.str(), path);
+}
+
+Table read_csv_text(const std::string& text, const std::string& path) {
+    std::istringstream in(text);
     Table t;
     std::string line;
     if (!std::getline(in, line)) fail(path, 1, "the record is empty (a header line of column names is expected)");

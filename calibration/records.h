@@ -52,5 +52,7 @@ struct Table {
     int column(const std::string& name) const;
 };
 Table read_csv(const std::string& path);
+// The same from text in memory; `path` names it in errors.
+Table read_csv_text(const std::string& text, const std::string& path);
 
 }  // namespace mbx::calibration

@@ -1,0 +1,42 @@
+// read_csv_text: the CSV reader on text in memory (what fuzz/fuzz_csv drives)
+// must read exactly what read_csv reads from the file, and name the path it is
+// given in its errors.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "calibration/records.h"
+#include "core/finding.h"
+
+using namespace mbx::calibration;
+
+TEST_CASE("read_csv_text reads what read_csv reads from the file, errors naming the given path") {
+    const std::string path = MBX_SHARED_DATA "/measured/emps/emps_train.csv";
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+        MESSAGE("skipped: no " << path);
+        return;
+    }
+    std::ostringstream text;
+    text << file.rdbuf();
+    const Table from_file = read_csv(path);
+    const Table from_text = read_csv_text(text.str(), path);
+    CHECK(from_text.header == from_file.header);
+    CHECK(from_text.columns == from_file.columns);
+    REQUIRE(from_text.column("t_s") == 0);
+    CHECK(from_text.columns[0].size() > 1000);
+
+    const Table small = read_csv_text("t, q\n0, +1.5\r\n\n0.001,2e-3\n", "mem.csv");
+    CHECK(small.header == std::vector<std::string>{"t", "q"});
+    CHECK(small.columns[1] == std::vector<double>{1.5, 2e-3});
+    try {
+        read_csv_text("t,q\n0,1\n0.001,inf\n", "mem.csv");
+        FAIL("accepted a non-finite cell");
+    } catch (const mbx::Error& e) {
+        CHECK(e.file() == "mem.csv");
+        CHECK(e.line() == 3);
+    }
+    CHECK_THROWS_AS(read_csv_text("", "empty.csv"), mbx::Error);
+}
