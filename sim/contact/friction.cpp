@@ -1,0 +1,50 @@
+#include "sim/contact/friction.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mbx::sim::contact {
+
+Eigen::Vector3d regularised_friction(const FrictionLaw& law, double n, const Eigen::Vector3d& v_t, double vs) {
+    const double speed = v_t.norm();
+    if (!(n > 0) || speed == 0) return Eigen::Vector3d::Zero();
+    // mu_k N tanh(|v| / v_s) against the motion: smooth through zero speed.
+    return -law.mu_kinetic * n * std::tanh(speed / vs) * (v_t / speed);
+}
+
+Eigen::Vector3d spring_friction(const FrictionLaw& law, const FrictionState& state, const Eigen::Vector3d& point,
+                                const Eigen::Vector3d& normal, const Eigen::Vector3d& v_t, double n,
+                                FrictionState& next) {
+    FrictionState s = state;
+    if (!(n > 0)) {
+        next = FrictionState{};
+        return Eigen::Vector3d::Zero();
+    }
+    if (!s.active) s = {true, point, true};  // a new contact sticks where it touched
+    // The spring's stretch, in the tangent plane.
+    Eigen::Vector3d stretch = point - s.anchor;
+    stretch -= normal * normal.dot(stretch);
+    const double speed = v_t.norm();
+    if (!s.sticking && speed < law.stick_speed) s.sticking = true, s.anchor = point, stretch.setZero();
+    // The spring carries the static friction; its damper only calms the
+    // stick phase (counting it would break a contact loose on the damping
+    // of a sudden, holdable load).
+    Eigen::Vector3d f = -law.stiffness * stretch - law.damping * v_t;
+    if (s.sticking && law.stiffness * stretch.norm() <= law.mu_static * n) {
+        next = s;
+        return f;
+    }
+    // Slipping: kinetic friction against the sliding velocity (or, at the
+    // moment of breaking away, against the spring's pull); the anchor is
+    // dragged to where the spring carries exactly the kinetic force.
+    const Eigen::Vector3d direction = speed > 1e-12 ? Eigen::Vector3d(v_t / speed)
+                                                     : stretch.norm() > 0 ? Eigen::Vector3d(stretch.normalized())
+                                                                          : Eigen::Vector3d::Zero();
+    f = -law.mu_kinetic * n * direction;
+    s.sticking = false;
+    s.anchor = point - direction * (law.mu_kinetic * n / law.stiffness);
+    next = s;
+    return f;
+}
+
+}  // namespace mbx::sim::contact
