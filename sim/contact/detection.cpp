@@ -70,7 +70,8 @@ Scene::Scene(const Model& m, std::vector<Shape> shapes) : impl_(std::make_unique
     joined_.assign(size_t(body_count_) * size_t(body_count_), 0);
     for (int b = 1; b < body_count_; ++b) {
         const int p = m.bodies[size_t(b)].parent;
-        if (p < 0) continue;
+        // A floating body's free joint ties it to nothing: it collides with the world.
+        if (p < 0 || m.joints[size_t(b - 1)].kind == JointKind::Free) continue;
         joined_[size_t(b) * size_t(body_count_) + size_t(p)] = joined_[size_t(p) * size_t(body_count_) + size_t(b)] = 1;
     }
     for (size_t i = 0; i < shapes_.size(); ++i) {
@@ -111,7 +112,7 @@ void Scene::narrowphase(int a, int b, std::vector<Contact>& out) {
             const double distance = n.dot(corner) - offset;
             if (distance >= 0) continue;
             // From a into b: into the plane's solid when the box is a, out of it otherwise.
-            out.push_back({a, b, corner, box_first ? Eigen::Vector3d(-n) : n, -distance});
+            out.push_back({a, b, corner, box_first ? Eigen::Vector3d(-n) : n, -distance, k});
         }
         return;
     }
@@ -121,6 +122,7 @@ void Scene::narrowphase(int a, int b, std::vector<Contact>& out) {
         fcl::collide(impl_->objects[size_t(a)].get(), impl_->objects[size_t(b)].get(), request, result);
         std::vector<fcl::Contactd> found;
         result.getContacts(found);
+        int feature = 0;
         for (const fcl::Contactd& c : found) {
             // FCL's contact may name the objects in the other order.
             const bool swapped = c.o1 != impl_->objects[size_t(a)]->collisionGeometry().get();
@@ -130,7 +132,7 @@ void Scene::narrowphase(int a, int b, std::vector<Contact>& out) {
                 ++stats_.failed_pairs;
                 continue;
             }
-            out.push_back({a, b, c.pos, normal / length, c.penetration_depth});
+            out.push_back({a, b, c.pos, normal / length, c.penetration_depth, feature++});
         }
     } catch (const std::exception&) {
         ++stats_.failed_pairs;  // FCL's EPA can throw on degenerate simplices
@@ -173,8 +175,8 @@ void Scene::detect(const Data& d, std::vector<Contact>& out) {
     // Half-spaces are unbounded: tested against every other shape directly.
     for (int h : impl_->planes)
         for (size_t i = 0; i < shapes_.size(); ++i) {
-            if (int(i) == h || shapes_[i].kind == ShapeKind::HalfSpace || !collides(int(i), h)) continue;
-            narrowphase(int(i), h, out);
+            if (int(i) == h || shapes_[i].kind == ShapeKind::HalfSpace || !collides(h, int(i))) continue;
+            narrowphase(h, int(i), out);  // the plane first: contacts push the other shape along +normal
         }
 }
 

@@ -19,6 +19,7 @@ struct Contact {
     Eigen::Vector3d point;           // world, on the deepest penetration
     Eigen::Vector3d normal;          // world, unit, from a into b
     double depth = 0;                // > 0: penetration
+    int feature = 0;                 // which point of the pair (a box corner, FCL's k-th): matches contacts across steps
 };
 
 struct DetectionStats {
@@ -28,8 +29,9 @@ struct DetectionStats {
 
 class Scene {
 public:
-    // Pairs of shapes on bodies joined directly by a joint (parent and child)
-    // and shapes on the same body never collide. Throws mbx::Error naming
+    // Pairs of shapes on bodies joined directly by a joint (parent and child;
+    // a floating body's free joint does not count) and shapes on the same
+    // body never collide. Throws mbx::Error naming
     // the shape for a non-positive size, a body out of range or an empty hull.
     Scene(const Model& m, std::vector<Shape> shapes);
     ~Scene();

@@ -25,7 +25,10 @@ Eigen::Vector3d spring_friction(const FrictionLaw& law, const FrictionState& sta
     Eigen::Vector3d stretch = point - s.anchor;
     stretch -= normal * normal.dot(stretch);
     const double speed = v_t.norm();
-    if (!s.sticking && speed < law.stick_speed) s.sticking = true, s.anchor = point, stretch.setZero();
+    // Re-sticking keeps the dragged anchor: the spring goes on carrying the
+    // kinetic force it had, rather than dropping to zero and letting the
+    // load creep the contact along one stretch at a time.
+    if (!s.sticking && speed < law.stick_speed) s.sticking = true;
     // The spring carries the static friction; its damper only calms the
     // stick phase (counting it would break a contact loose on the damping
     // of a sudden, holdable load).
@@ -37,9 +40,11 @@ Eigen::Vector3d spring_friction(const FrictionLaw& law, const FrictionState& sta
     // Slipping: kinetic friction against the sliding velocity (or, at the
     // moment of breaking away, against the spring's pull); the anchor is
     // dragged to where the spring carries exactly the kinetic force.
-    const Eigen::Vector3d direction = speed > 1e-12 ? Eigen::Vector3d(v_t / speed)
-                                                     : stretch.norm() > 0 ? Eigen::Vector3d(stretch.normalized())
-                                                                          : Eigen::Vector3d::Zero();
+    // Slower than the re-stick speed the velocity's direction is noise:
+    // the contact breaks away the way the spring was stretched.
+    const Eigen::Vector3d direction = speed >= law.stick_speed ? Eigen::Vector3d(v_t / speed)
+                                      : stretch.norm() > 0     ? Eigen::Vector3d(stretch.normalized())
+                                                               : Eigen::Vector3d::Zero();
     f = -law.mu_kinetic * n * direction;
     s.sticking = false;
     s.anchor = point - direction * (law.mu_kinetic * n / law.stiffness);

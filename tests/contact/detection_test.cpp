@@ -66,10 +66,10 @@ TEST_CASE("contact detection: a sphere sunk into a tilted plane, and two spheres
     std::vector<Contact> c;
     scene.detect(b.data, c);
     REQUIRE(c.size() == 1);
-    CHECK(c[0].shape_a == 1);
-    CHECK(c[0].shape_b == 0);
+    CHECK(c[0].shape_a == 0);  // the plane first
+    CHECK(c[0].shape_b == 1);
     CHECK(c[0].depth == doctest::Approx(0.02).epsilon(1e-6));
-    CHECK((c[0].normal + n).norm() < 1e-6);  // from the sphere into the plane
+    CHECK((c[0].normal - n).norm() < 1e-6);  // from the plane into the sphere
     // The point lies between the sphere's lowest point and the plane.
     CHECK(std::abs(n.dot(c[0].point - on_plane)) < 0.02 + 1e-9);
     // Lifted clear: nothing.
@@ -100,7 +100,7 @@ TEST_CASE("contact detection: a box on a tilted plane touches with all four corn
     REQUIRE(c.size() == 4);
     for (const Contact& k : c) {
         CHECK(k.depth == doctest::Approx(0.001).epsilon(1e-6));
-        CHECK((k.normal + n).norm() < 1e-12);
+        CHECK((k.normal - n).norm() < 1e-12);
     }
     // Tipped about the box's x axis by 0.005 rad: two corners deeper, two shallower (or clear).
     b.place(3, tilt * rot(0.005, Eigen::Vector3d::UnitX()), Eigen::Vector3d(0, 0, 0.5) + (0.025 - 0.001) * n);
@@ -130,11 +130,11 @@ TEST_CASE("contact detection: capsules, filtering and bad shapes") {
     // overlap the capsule but are joined to it (parent) or on its body.
     int rod = 0;
     for (const Contact& k : c) {
-        CHECK(k.shape_b == 0);
-        if (k.shape_a == 1) {
+        CHECK(k.shape_a == 0);
+        if (k.shape_b == 1) {
             ++rod;
             CHECK(k.depth == doctest::Approx(0.005).epsilon(1e-6));
-            CHECK(k.normal.z() == doctest::Approx(-1));
+            CHECK(k.normal.z() == doctest::Approx(1));
         }
     }
     CHECK(rod >= 1);
@@ -144,7 +144,7 @@ TEST_CASE("contact detection: capsules, filtering and bad shapes") {
     masked[3].mask = 0;
     Scene filtered(b.model, masked);
     filtered.detect(b.data, c);
-    for (const Contact& k : c) CHECK(k.shape_a != 3);
+    for (const Contact& k : c) CHECK(k.shape_b != 3);
 
     Shape bad = sphere(3, -1, "negative");
     CHECK_THROWS_WITH_AS(Scene(b.model, {bad}), doctest::Contains("collision shape 'negative': radius must be a positive number"), Error);

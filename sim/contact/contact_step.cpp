@@ -1,0 +1,69 @@
+#include "sim/contact/contact_step.h"
+
+#include "sim/dynamics.h"
+
+namespace mbx::sim::contact {
+
+void add_point_force(const Model& m, const Data& d, int body, const Eigen::Vector3d& p, const Eigen::Vector3d& f,
+                     Eigen::VectorXd& tau) {
+    // Column k of the point Jacobian is [w; v + w x p]: its power with f is v.f + w.(p x f).
+    const Eigen::Vector3d moment = p.cross(f);
+    for (int b = body; b > 0; b = m.bodies[size_t(b)].parent) {
+        const JointT<double>& j = m.joints[size_t(b - 1)];
+        for (int k = 0; k < j.nv(); ++k) {
+            const Vec6T<double> w = d.x_world[size_t(b)].motion_to_parent(Vec6T<double>(d.subspace[size_t(b)].col(k)));
+            tau[j.v_index + k] += w.tail<3>().dot(f) + w.head<3>().dot(moment);
+        }
+    }
+}
+
+void ContactWorld::step(const Model& m, Data& d, const IntegratorSettings& s) {
+    update_kinematics(m, d);
+    scene_.detect(d, contacts_);
+    tau_.setZero(m.nv);
+    forces_.clear();
+    std::map<Key, FrictionState> next_anchors;
+    for (const Contact& c : contacts_) {
+        const int ba = scene_.shapes()[size_t(c.shape_a)].body, bb = scene_.shapes()[size_t(c.shape_b)].body;
+        // Velocity of b's material point relative to a's, at the contact.
+        const Eigen::Vector3d v_rel = point_velocity(d, bb, c.point).tail<3>() - point_velocity(d, ba, c.point).tail<3>();
+        const double depth_rate = -c.normal.dot(v_rel);
+        ContactForce cf;
+        cf.contact = c;
+        cf.normal_force = normal_force(settings_.normal, c.depth, depth_rate);
+        const Eigen::Vector3d v_t = v_rel - c.normal * c.normal.dot(v_rel);
+        if (settings_.friction_spring) {
+            const Key key{c.shape_a, c.shape_b, c.feature};
+            const auto it = anchors_.find(key);
+            FrictionState next;
+            // The anchor is a world point: right when one side is the world
+            // (the ground, fixed obstacles). The spring stretches with the
+            // moving side's point; when that is a, its force on b is the reverse.
+            const bool a_moves = ba != 0 && bb == 0;
+            const Eigen::Vector3d f_mover =
+                spring_friction(settings_.friction, it == anchors_.end() ? FrictionState{} : it->second, c.point,
+                                c.normal, a_moves ? Eigen::Vector3d(-v_t) : v_t, cf.normal_force, next);
+            cf.friction = a_moves ? Eigen::Vector3d(-f_mover) : f_mover;
+            cf.sticking = next.sticking;
+            if (next.active) next_anchors[key] = next;
+        } else {
+            cf.friction = regularised_friction(settings_.friction, cf.normal_force, v_t, settings_.smoothing_speed);
+        }
+        const Eigen::Vector3d f = cf.normal_force * c.normal + cf.friction;  // onto b
+        add_point_force(m, d, bb, c.point, f, tau_);
+        add_point_force(m, d, ba, c.point, -f, tau_);
+        forces_.push_back(cf);
+    }
+    const Eigen::VectorXd user = d.effort;
+    d.effort += tau_;
+    try {
+        fixed_step(m, d, s);
+    } catch (...) {
+        d.effort = user;
+        throw;
+    }
+    d.effort = user;
+    anchors_ = std::move(next_anchors);  // the step was taken
+}
+
+}  // namespace mbx::sim::contact

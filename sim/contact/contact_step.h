@@ -1,0 +1,62 @@
+// Contact in the simulator's fixed-step mode: at the start of each step the
+// contacts are detected at the current poses, their normal and friction
+// forces computed from the laws of normal_force.h and friction.h and applied
+// through the bodies' point Jacobians as generalised efforts, held over the
+// step (as MuJoCo holds its constraint forces), then the simulator steps.
+// The friction springs' anchors persist per contact (matched across steps
+// by shape pair and feature) and change only when a step is taken.
+#pragma once
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include "sim/contact/detection.h"
+#include "sim/contact/friction.h"
+#include "sim/contact/normal_force.h"
+#include "sim/integrator.h"
+
+namespace mbx::sim::contact {
+
+struct ContactSettings {
+    NormalLaw normal;
+    FrictionLaw friction;
+    bool friction_spring = true;    // false: regularised Coulomb
+    double smoothing_speed = 1e-3;  // regularised Coulomb's v_s, m/s
+};
+
+struct ContactForce {
+    Contact contact;
+    double normal_force = 0;       // N, along the contact normal onto shape b
+    Eigen::Vector3d friction;      // N, world, onto shape b
+    bool sticking = false;
+};
+
+class ContactWorld {
+public:
+    ContactWorld(const Model& m, std::vector<Shape> shapes, ContactSettings settings)
+        : scene_(m, std::move(shapes)), settings_(settings) {}
+
+    // One fixed step (Euler or RK4 of `s`) with contact; data.effort is the
+    // user's effort and is left as it was.
+    void step(const Model& m, Data& d, const IntegratorSettings& s);
+
+    const std::vector<ContactForce>& forces() const { return forces_; }  // of the last step's start
+    const Scene& scene() const { return scene_; }
+    const ContactSettings& settings() const { return settings_; }
+
+private:
+    using Key = std::tuple<int, int, int>;  // shape a, shape b, feature
+    Scene scene_;
+    ContactSettings settings_;
+    std::map<Key, FrictionState> anchors_;
+    std::vector<Contact> contacts_;
+    std::vector<ContactForce> forces_;
+    Eigen::VectorXd tau_;
+};
+
+// Adds the generalised effort of world force f applied at world point p of
+// body b to tau (J_p^T f; needs update_positions).
+void add_point_force(const Model& m, const Data& d, int body, const Eigen::Vector3d& p, const Eigen::Vector3d& f,
+                     Eigen::VectorXd& tau);
+
+}  // namespace mbx::sim::contact

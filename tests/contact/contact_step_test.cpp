@@ -1,0 +1,180 @@
+// Contact in the simulator (sim/contact/contact_step.h) against closed
+// forms, with a single free body over a ground half-space: a ball dropped
+// with restitution e rebounds to e^2 of its height; a box resting on the
+// plane sinks m g / (4 k) on its four corners and stays level; on an incline
+// below atan(mu_s) the friction spring holds the box with zero creep, above
+// it the box slides at g (sin - mu_k cos).
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "builder.h"
+#include "export_fixture.h"
+#include "sim/build_model.h"
+#include "sim/contact/contact_step.h"
+#include "sim/dynamics.h"
+
+using namespace mbx;
+using namespace mbx::sim::contact;
+
+namespace {
+
+constexpr double g = 9.81;
+
+// A ground and one free part of `mass` with `inertia` at the origin.
+struct FreeBody {
+    std::unique_ptr<xtest::Translated> t;
+    sim::Model model;
+    explicit FreeBody(double mass, const Mat3& inertia) {
+        using namespace mbx_stub::build;
+        mbx_memory::Assembly a;
+        a.name = "free";
+        const mbx_units si{1, 1, 1};
+        Builder b(a, "free", si, si);
+        b.body("ground", "Ground", MBX_BODY_GROUND, 1.0, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), Mat3::Identity());
+        b.body("body", "Body", 0, mass, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), inertia);
+        t = xtest::translate(std::move(a));
+        model = sim::build_model(*t->mechanism);
+        REQUIRE(model.nv == 6);
+        REQUIRE(model.joints[0].kind == sim::JointKind::Free);
+    }
+    int body() const { return 1; }
+};
+
+Shape ground(double tilt = 0) {
+    Shape s;
+    s.kind = ShapeKind::HalfSpace, s.name = "ground", s.body = 0;
+    s.rotation = Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    return s;
+}
+
+void set_pose(sim::Data& d, const Eigen::Vector3d& p, const Eigen::Quaterniond& q = Eigen::Quaterniond::Identity()) {
+    d.q.head<3>() = p;
+    d.q[3] = q.w(), d.q[4] = q.x(), d.q[5] = q.y(), d.q[6] = q.z();
+    d.v.setZero();
+}
+
+}  // namespace
+
+TEST_CASE("contact: a ball dropped with restitution e rebounds to e^2 of its height") {
+    const double m = 1, r = 0.05, h0 = 0.5;
+    FreeBody fb(m, (0.4 * m * r * r) * Mat3::Identity());
+    Shape ball;
+    ball.kind = ShapeKind::Sphere, ball.name = "ball", ball.body = fb.body(), ball.radius = r;
+    for (double e : {0.0, 0.3, 0.8}) {
+        ContactSettings cs;
+        cs.normal.model = NormalModel::HuntCrossley, cs.normal.stiffness = 1e9, cs.normal.exponent = 1.5;
+        const double v_impact = std::sqrt(2 * g * h0);
+        cs.normal.damping = damping_for_restitution(cs.normal, m, v_impact, e);
+        cs.friction_spring = false;
+        ContactWorld world(fb.model, {ground(), ball}, cs);
+        sim::Data d(fb.model);
+        set_pose(d, Eigen::Vector3d(0, 0, r + h0));
+        sim::IntegratorSettings s;
+        s.kind = sim::IntegratorKind::Euler, s.step = 1e-5;
+        bool touched = false, left = false;
+        double apex = 0;
+        for (int k = 0; k < 60000; ++k) {
+            world.step(fb.model, d, s);
+            const double z = d.q[2] - r;
+            if (!world.forces().empty()) touched = true;
+            if (touched && world.forces().empty() && z > 0) left = true;
+            if (left) apex = std::max(apex, z);
+            if (left && d.v[2] < 0) break;
+        }
+        MESSAGE("e = " << e << ": rebound to " << apex / h0 << " of the drop height (e^2 = " << e * e << ")");
+        REQUIRE(touched);
+        // Within 2 % of e^2 h0; e = 0: within 2 % of the drop height.
+        CHECK(std::abs(apex / h0 - e * e) <= 0.02 * (e > 0 ? e * e : 1.0));
+    }
+}
+
+TEST_CASE("contact: a box resting on the plane sinks m g / 4k and stays level") {
+    const double m = 2, a = 0.1;
+    FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
+    Shape box;
+    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
+    ContactSettings cs;
+    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
+    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
+    ContactWorld world(fb.model, {ground(), box}, cs);
+    sim::Data d(fb.model);
+    set_pose(d, Eigen::Vector3d(0, 0, a / 2 + 0.001));
+    sim::IntegratorSettings s;
+    s.kind = sim::IntegratorKind::Euler, s.step = 1e-4;
+    for (int k = 0; k < 20000; ++k) world.step(fb.model, d, s);
+    const double sink = a / 2 - d.q[2];
+    CHECK(world.forces().size() == 4);
+    CHECK(sink == doctest::Approx(m * g / (4 * cs.normal.stiffness)).epsilon(0.01));
+    // Level and still: no rocking on a single deepest corner.
+    CHECK(d.v.norm() < 1e-6);
+    CHECK(std::abs(d.q[3]) == doctest::Approx(1).epsilon(1e-9));
+}
+
+TEST_CASE("contact: on an incline the friction spring holds below atan(mu_s), above it the box slides at g (sin - mu_k cos)") {
+    const double m = 1, a = 0.1;
+    FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
+    Shape box;
+    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
+    ContactSettings cs;
+    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
+    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
+    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5, cs.friction.stiffness = 2e4;
+    cs.friction.damping = 2 * std::sqrt(cs.friction.stiffness * m / 4);
+    for (double degrees : {25.0, 35.0}) {
+        const double theta = degrees * M_PI / 180;
+        ContactWorld world(fb.model, {ground(theta), box}, cs);
+        sim::Data d(fb.model);
+        // Resting on the incline (the plane's normal is its frame's z), just touching.
+        const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+        set_pose(d, R * Eigen::Vector3d(0, 0, a / 2 - m * g * std::cos(theta) / (4 * cs.normal.stiffness)),
+                 Eigen::Quaterniond(R));
+        sim::IntegratorSettings s;
+        s.kind = sim::IntegratorKind::Euler, s.step = 1e-4;
+        const Eigen::Vector3d down_slope = R * Eigen::Vector3d(1, 0, 0);  // x of the incline, downhill for +theta about y
+        double x5 = 0;
+        const int steps = degrees < 30 ? 100000 : 5000;
+        for (int k = 0; k < steps; ++k) {
+            world.step(fb.model, d, s);
+            if (k == steps / 2) x5 = down_slope.dot(d.q.head<3>());
+        }
+        const double x = down_slope.dot(d.q.head<3>());
+        if (degrees < 30) {
+            MESSAGE("25 deg: moved " << (x - x5) << " m over the last 5 s");
+            CHECK(std::abs(x - x5) < 1e-9);
+        } else {
+            const double v = down_slope.dot(d.v.head<3>());
+            const double expected = g * (std::sin(theta) - cs.friction.mu_kinetic * std::cos(theta)) * steps * s.step;
+            CHECK(std::abs(v) == doctest::Approx(expected).epsilon(0.01));
+        }
+    }
+}
+
+TEST_CASE("contact: the regularised law lets the box creep down the 25 degree incline the friction spring holds") {
+    const double m = 1, a = 0.1, theta = 25 * M_PI / 180;
+    FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
+    Shape box;
+    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
+    ContactSettings cs;
+    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
+    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
+    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5;
+    cs.friction_spring = false, cs.smoothing_speed = 1e-3;
+    ContactWorld world(fb.model, {ground(theta), box}, cs);
+    sim::Data d(fb.model);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    set_pose(d, R * Eigen::Vector3d(0, 0, a / 2 - m * g * std::cos(theta) / (4 * cs.normal.stiffness)), Eigen::Quaterniond(R));
+    sim::IntegratorSettings s;
+    s.kind = sim::IntegratorKind::Euler, s.step = 1e-4;
+    const Eigen::Vector3d down_slope = R * Eigen::Vector3d(1, 0, 0);
+    double x5 = 0;
+    for (int k = 0; k < 100000; ++k) {
+        world.step(fb.model, d, s);
+        if (k == 50000) x5 = down_slope.dot(d.q.head<3>());
+    }
+    const double creep = (down_slope.dot(d.q.head<3>()) - x5) / 5;
+    // Where mu_k N tanh(v / v_s) balances m g sin: v = v_s atanh(tan / mu_k).
+    const double expected = cs.smoothing_speed * std::atanh(std::tan(theta) / cs.friction.mu_kinetic);
+    MESSAGE("regularised Coulomb on 25 deg: creeps at " << creep * 1e3 << " mm/s (the friction spring: 0)");
+    CHECK(creep == doctest::Approx(expected).epsilon(0.02));
+}
