@@ -20,11 +20,12 @@ Eigen::Vector3d spring_friction(const FrictionLaw& law, const FrictionState& sta
         next = FrictionState{};
         return Eigen::Vector3d::Zero();
     }
-    if (!s.active) s = {true, point, true};  // a new contact sticks where it touched
+    const double speed = v_t.norm();
+    // A new contact sticks where it touched, unless it touches down sliding.
+    if (!s.active) s = {speed < law.stick_speed, point, true};
     // The spring's stretch, in the tangent plane.
     Eigen::Vector3d stretch = point - s.anchor;
     stretch -= normal * normal.dot(stretch);
-    const double speed = v_t.norm();
     // Re-sticking keeps the dragged anchor: the spring goes on carrying the
     // kinetic force it had, rather than dropping to zero and letting the
     // load creep the contact along one stretch at a time.
@@ -35,7 +36,10 @@ Eigen::Vector3d spring_friction(const FrictionLaw& law, const FrictionState& sta
     Eigen::Vector3d f = -law.stiffness * stretch - law.damping * v_t;
     if (s.sticking && law.stiffness * stretch.norm() <= law.mu_static * n) {
         next = s;
-        return f;
+        // Within the friction cone, damper included (a stick-phase damper
+        // must not throw the contact with more than static friction).
+        const double cap = law.mu_static * n, size = f.norm();
+        return size > cap ? Eigen::Vector3d(f * (cap / size)) : f;
     }
     // Slipping: kinetic friction against the sliding velocity (or, at the
     // moment of breaking away, against the spring's pull); the anchor is

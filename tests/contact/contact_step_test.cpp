@@ -56,12 +56,12 @@ void set_pose(sim::Data& d, const Eigen::Vector3d& p, const Eigen::Quaterniond& 
 
 }  // namespace
 
-TEST_CASE("contact: a ball dropped with restitution e rebounds to e^2 of its height") {
+TEST_CASE("contact: a ball dropped with restitution e rebounds to e^2 of its height, and gains no energy") {
     const double m = 1, r = 0.05, h0 = 0.5;
     FreeBody fb(m, (0.4 * m * r * r) * Mat3::Identity());
     Shape ball;
     ball.kind = ShapeKind::Sphere, ball.name = "ball", ball.body = fb.body(), ball.radius = r;
-    for (double e : {0.0, 0.3, 0.8}) {
+    for (double e : {0.0, 0.3, 0.8, 1.0}) {
         ContactSettings cs;
         cs.normal.model = NormalModel::HuntCrossley, cs.normal.stiffness = 1e9, cs.normal.exponent = 1.5;
         const double v_impact = std::sqrt(2 * g * h0);
@@ -73,10 +73,13 @@ TEST_CASE("contact: a ball dropped with restitution e rebounds to e^2 of its hei
         sim::IntegratorSettings s;
         s.kind = sim::IntegratorKind::Euler, s.step = 1e-5;
         bool touched = false, left = false;
-        double apex = 0;
+        double apex = 0, most_energy = 0;
+        const double energy0 = m * g * h0;
         for (int k = 0; k < 60000; ++k) {
             world.step(fb.model, d, s);
             const double z = d.q[2] - r;
+            // The ball's own energy (the contact spring's aside): never above the start's.
+            most_energy = std::max(most_energy, 0.5 * m * d.v.head<3>().squaredNorm() + m * g * z);
             if (!world.forces().empty()) touched = true;
             if (touched && world.forces().empty() && z > 0) left = true;
             if (left) apex = std::max(apex, z);
@@ -86,6 +89,7 @@ TEST_CASE("contact: a ball dropped with restitution e rebounds to e^2 of its hei
         REQUIRE(touched);
         // Within 2 % of e^2 h0; e = 0: within 2 % of the drop height.
         CHECK(std::abs(apex / h0 - e * e) <= 0.02 * (e > 0 ? e * e : 1.0));
+        CHECK(most_energy <= energy0 * (1 + 1e-3));
     }
 }
 
@@ -177,4 +181,75 @@ TEST_CASE("contact: the regularised law lets the box creep down the 25 degree in
     const double expected = cs.smoothing_speed * std::atanh(std::tan(theta) / cs.friction.mu_kinetic);
     MESSAGE("regularised Coulomb on 25 deg: creeps at " << creep * 1e3 << " mm/s (the friction spring: 0)");
     CHECK(creep == doctest::Approx(expected).epsilon(0.02));
+}
+
+TEST_CASE("contact: a sliding ball starts rolling at t = 2 v0 / (7 mu g) with v = 5 v0 / 7, and energy never grows") {
+    const double m = 1, r = 0.05, v0 = 2.0;
+    FreeBody fb(m, (0.4 * m * r * r) * Mat3::Identity());
+    Shape ball;
+    ball.kind = ShapeKind::Sphere, ball.name = "ball", ball.body = fb.body(), ball.radius = r;
+    ContactSettings cs;
+    cs.normal.model = NormalModel::HuntCrossley, cs.normal.stiffness = 1e7, cs.normal.exponent = 1.5;
+    cs.normal.damping = damping_for_restitution(cs.normal, m, 0.5, 0.3);
+    cs.friction.mu_static = 0.3, cs.friction.mu_kinetic = 0.3, cs.friction.stiffness = 1e5;
+    cs.friction.damping = 2 * std::sqrt(cs.friction.stiffness * m);
+    ContactWorld world(fb.model, {ground(), ball}, cs);
+    sim::Data d(fb.model);
+    // Resting depth of the Hertz contact under m g, then launched sliding without spin.
+    set_pose(d, Eigen::Vector3d(0, 0, r - std::pow(m * g / cs.normal.stiffness, 1 / 1.5)));
+    d.v[0] = v0;
+    sim::IntegratorSettings s;
+    s.kind = sim::IntegratorKind::Euler, s.step = 1e-5;
+    const double t_roll = 2 * v0 / (7 * cs.friction.mu_kinetic * g);
+    double t_stuck = -1;
+    for (int k = 0; k < int(1.5 * t_roll / s.step); ++k) {
+        world.step(fb.model, d, s);
+        // Slip speed of the contact point: v - w x r (free joint: body-frame angular velocity; the body stays unrotated about z here).
+        const Eigen::Vector3d w = Eigen::Quaterniond(d.q[3], d.q[4], d.q[5], d.q[6]).toRotationMatrix() * d.v.tail<3>();
+        const double slip = d.v[0] + w.cross(Eigen::Vector3d(0, 0, -r)).x();
+        if (t_stuck < 0 && std::abs(slip) < 1e-3) t_stuck = (k + 1) * s.step;
+    }
+    MESSAGE("rolls from t = " << t_stuck << " s (2 v0 / 7 mu g = " << t_roll << " s) at " << d.v[0] << " m/s (5 v0 / 7 = " << 5 * v0 / 7 << ")");
+    CHECK(t_stuck == doctest::Approx(t_roll).epsilon(0.02));
+    CHECK(d.v[0] == doctest::Approx(5 * v0 / 7).epsilon(0.02));
+}
+
+TEST_CASE("contact: a box pushed just below mu_s m g stays, just above it slides at (F - mu_k m g) / m") {
+    const double m = 1, a = 0.1;
+    FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
+    Shape box;
+    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
+    ContactSettings cs;
+    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
+    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
+    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5, cs.friction.stiffness = 2e4;
+    cs.friction.damping = 2 * std::sqrt(cs.friction.stiffness * m / 4);
+    for (double share : {0.95, 1.05}) {
+        ContactWorld world(fb.model, {ground(), box}, cs);
+        sim::Data d(fb.model);
+        set_pose(d, Eigen::Vector3d(0, 0, a / 2 - m * g / (4 * cs.normal.stiffness)));
+        sim::IntegratorSettings s;
+        s.kind = sim::IntegratorKind::Euler, s.step = 1e-4;
+        for (int k = 0; k < 5000; ++k) world.step(fb.model, d, s);  // settle
+        // Push along x through the centre of mass, ramped up over 1 s (a
+        // quasi-static load: a sudden one rings the friction springs), then held.
+        const double F = share * cs.friction.mu_static * m * g;
+        const double x0 = d.q[0];
+        double x_held = 0, v_held = 0;
+        d.effort.setZero();
+        for (int k = 0; k < 20000; ++k) {
+            d.effort[0] = F * std::min(1.0, (k + 1) * s.step / 1.0);
+            world.step(fb.model, d, s);
+            if (k == 15000) x_held = d.q[0], v_held = d.v[0];
+        }
+        if (share < 1) {
+            MESSAGE("held at 95 % of mu_s m g: moved " << d.q[0] - x_held << " m in the last 0.5 s, " << d.q[0] - x0
+                                                     << " m in all (the springs' stretch)");
+            CHECK(std::abs(d.q[0] - x_held) < 1e-9);
+            CHECK(d.q[0] - x0 < 1e-3);
+        } else {
+            const double accel = (d.v[0] - v_held) / 0.5;
+            CHECK(accel == doctest::Approx((F - cs.friction.mu_kinetic * m * g) / m).epsilon(0.02));
+        }
+    }
 }
