@@ -165,6 +165,7 @@ struct Session {
         }
         drive_forces(mm, dd);
         dd.qfrc_total = dd.effort + dd.qfrc_passive + dd.qfrc_drive;
+        if (dd.applied_forces) add_applied_forces(mm, dd);
         if (stuck_count)
             forward_dynamics(mm, dd, &stuck_rows, &stuck_bias);
         else
@@ -579,6 +580,11 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
         emit_until(t_ret);
         t = t_ret;
         s.load(t, N_VGetArrayPointer(s.y));
+        if (d.applied_forces) {
+            // An accepted step: state that may change only on those (friction-spring anchors).
+            update_kinematics(m, d);
+            d.applied_forces->step_taken(m, d);
+        }
         bool restart_needed = false;
         if (flag == CV_ROOT_RETURN) {
             std::vector<int> found(s.friction_dof.size(), 0);

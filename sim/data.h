@@ -22,6 +22,21 @@ template <class T> struct Fresh : T {
     Fresh& operator=(const Fresh&) { return *this; }
 };
 
+template <class S> struct DataT;
+
+// Forces from outside the joint model (contact: sim/contact/contact_step.h).
+// At every dynamics evaluation, with the kinematics at the evaluated state,
+// apply() adds generalised efforts into data.qfrc_applied; step_taken()
+// follows every step the integrator keeps (the fixed-step modes' every
+// step, the accurate mode's accepted ones), for state that must change only
+// then, such as friction-spring anchors. Not owned by the data object (a
+// copy shares it).
+struct AppliedForces {
+    virtual ~AppliedForces() = default;
+    virtual void apply(const ModelT<double>& m, DataT<double>& d) = 0;
+    virtual void step_taken(const ModelT<double>& m, DataT<double>& d) { (void)m, (void)d; }
+};
+
 struct RunStats {
     long long steps = 0;
     long long evaluations = 0;     // forward dynamics calls
@@ -36,7 +51,9 @@ template <class S> struct DataT {
     VecXT<S> effort;        // external effort input per velocity coordinate (N m, N; free joints: world force, body moment)
     VecXT<S> qfrc_passive;  // joint dynamics (damping, friction, springs, limits) at the last evaluation
     VecXT<S> qfrc_drive;    // drives at the last evaluation
-    VecXT<S> qfrc_total;    // everything applied: effort + passive + drive
+    VecXT<S> qfrc_total;    // everything applied: effort + passive + drive (+ applied)
+    AppliedForces* applied_forces = nullptr;  // double only; see AppliedForces
+    VecXT<S> qfrc_applied;  // from applied_forces at the last evaluation
 
     // Kinematics (per body; [0] is the world).
     std::vector<Transform<S>> x_parent;  // body in its parent
@@ -102,7 +119,7 @@ template <class S> struct DataT {
         const size_t nb = m.bodies.size();
         q = m.q_reference;
         v = VecXT<S>::Zero(m.nv);
-        qacc = effort = qfrc_passive = qfrc_drive = qfrc_total = tmp_v = tmp_v2 = VecXT<S>::Zero(m.nv);
+        qacc = effort = qfrc_passive = qfrc_drive = qfrc_total = qfrc_applied = tmp_v = tmp_v2 = VecXT<S>::Zero(m.nv);
         v_start = v_stage = v_sum = a_sum = VecXT<S>::Zero(m.nv);
         q_start = q;
         x_parent.resize(nb);

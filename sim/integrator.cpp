@@ -25,11 +25,19 @@ bool parse_integrator(const std::string& word, IntegratorKind& out) {
     return false;
 }
 
+void add_applied_forces(const Model& m, Data& d) {
+    update_kinematics(m, d);
+    d.qfrc_applied.setZero(m.nv);
+    d.applied_forces->apply(m, d);
+    d.qfrc_total += d.qfrc_applied;
+}
+
 void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck, double step,
               bool positions_ready) {
     passive_forces(m, d, law, stuck, step);
     drive_forces(m, d);
     d.qfrc_total = d.effort + d.qfrc_passive + d.qfrc_drive;
+    if (d.applied_forces) add_applied_forces(m, d);
     forward_dynamics<double>(m, d, nullptr, nullptr, positions_ready);
     ++d.stats.evaluations;
 }
@@ -147,6 +155,11 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
         std::swap(d.closure_carry_before, d.closure_carry);
         std::swap(d.closure_carry, d.closure_moved);
         d.carry_count = std::min(d.carry_count + 1, 3);
+    }
+    if (d.applied_forces) {
+        // At the step's end state, which the next step starts from.
+        update_kinematics(m, d);
+        d.applied_forces->step_taken(m, d);
     }
 }
 

@@ -31,6 +31,10 @@ struct IntegratorSettings {
 void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>* stuck = nullptr, double step = 0,
               bool positions_ready = false);
 
+// data.applied_forces' efforts at the current state into qfrc_applied,
+// added to qfrc_total (the kinematics brought up to date first).
+void add_applied_forces(const Model& m, Data& d);
+
 // One fixed step of `settings.step` with Euler or RK4, controllers sampled
 // at its start, loops closed at its end. Throws mbx::Error for a state that
 // becomes non-finite (naming the joint) or loops that no longer close.

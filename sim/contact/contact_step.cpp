@@ -17,12 +17,9 @@ void add_point_force(const Model& m, const Data& d, int body, const Eigen::Vecto
     }
 }
 
-void ContactWorld::step(const Model& m, Data& d, const IntegratorSettings& s) {
-    update_kinematics(m, d);
+void ContactWorld::evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau, std::map<Key, FrictionState>* next_anchors) {
     scene_.detect(d, contacts_);
-    tau_.setZero(m.nv);
     forces_.clear();
-    std::map<Key, FrictionState> next_anchors;
     for (const Contact& c : contacts_) {
         const int ba = scene_.shapes()[size_t(c.shape_a)].body, bb = scene_.shapes()[size_t(c.shape_b)].body;
         // Velocity of b's material point relative to a's, at the contact.
@@ -45,25 +42,39 @@ void ContactWorld::step(const Model& m, Data& d, const IntegratorSettings& s) {
                                 c.normal, a_moves ? Eigen::Vector3d(-v_t) : v_t, cf.normal_force, next);
             cf.friction = a_moves ? Eigen::Vector3d(-f_mover) : f_mover;
             cf.sticking = next.sticking;
-            if (next.active) next_anchors[key] = next;
+            if (next_anchors && next.active) (*next_anchors)[key] = next;
         } else {
             cf.friction = regularised_friction(settings_.friction, cf.normal_force, v_t, settings_.smoothing_speed);
         }
         const Eigen::Vector3d f = cf.normal_force * c.normal + cf.friction;  // onto b
-        add_point_force(m, d, bb, c.point, f, tau_);
-        add_point_force(m, d, ba, c.point, -f, tau_);
+        add_point_force(m, d, bb, c.point, f, tau);
+        add_point_force(m, d, ba, c.point, -f, tau);
         forces_.push_back(cf);
     }
-    const Eigen::VectorXd user = d.effort;
-    d.effort += tau_;
+}
+
+void ContactWorld::apply(const Model& m, Data& d) { evaluate(m, d, d.qfrc_applied, nullptr); }
+
+void ContactWorld::step_taken(const Model& m, Data& d) {
+    // The anchors move with the kept step's end state; the forces found on
+    // the way are what forces() reports until the next evaluation.
+    if (!settings_.friction_spring) return;
+    std::map<Key, FrictionState> next;
+    Eigen::VectorXd scratch = Eigen::VectorXd::Zero(m.nv);
+    evaluate(m, d, scratch, &next);
+    anchors_ = std::move(next);
+}
+
+void ContactWorld::step(const Model& m, Data& d, const IntegratorSettings& s) {
+    AppliedForces* before = d.applied_forces;
+    d.applied_forces = this;
     try {
         fixed_step(m, d, s);
     } catch (...) {
-        d.effort = user;
+        d.applied_forces = before;
         throw;
     }
-    d.effort = user;
-    anchors_ = std::move(next_anchors);  // the step was taken
+    d.applied_forces = before;
 }
 
 }  // namespace mbx::sim::contact

@@ -1,10 +1,11 @@
-// Contact in the simulator's fixed-step mode: at the start of each step the
-// contacts are detected at the current poses, their normal and friction
+// Contact as a force element of the simulator (sim::AppliedForces): at every
+// dynamics evaluation (each RK4 stage, each CVODE right-hand side) the
+// contacts are detected at the evaluated poses, their normal and friction
 // forces computed from the laws of normal_force.h and friction.h and applied
-// through the bodies' point Jacobians as generalised efforts, held over the
-// step (as MuJoCo holds its constraint forces), then the simulator steps.
-// The friction springs' anchors persist per contact (matched across steps
-// by shape pair and feature) and change only when a step is taken.
+// through the bodies' point Jacobians as generalised efforts. The friction
+// springs' anchors persist per contact (matched across steps by shape pair
+// and feature) and change only when the integrator keeps a step: every
+// fixed step, the accurate mode's accepted ones.
 #pragma once
 #include <map>
 #include <tuple>
@@ -31,16 +32,20 @@ struct ContactForce {
     bool sticking = false;
 };
 
-class ContactWorld {
+class ContactWorld : public AppliedForces {
 public:
     ContactWorld(const Model& m, std::vector<Shape> shapes, ContactSettings settings)
         : scene_(m, std::move(shapes)), settings_(settings) {}
 
-    // One fixed step (Euler or RK4 of `s`) with contact; data.effort is the
-    // user's effort and is left as it was.
+    // One fixed step (Euler or RK4 of `s`) with contact: attaches itself to
+    // `d` for the step. For the accurate mode (sim::advance), or to keep it
+    // attached, set d.applied_forces = &world.
     void step(const Model& m, Data& d, const IntegratorSettings& s);
 
-    const std::vector<ContactForce>& forces() const { return forces_; }  // of the last step's start
+    void apply(const Model& m, Data& d) override;
+    void step_taken(const Model& m, Data& d) override;
+
+    const std::vector<ContactForce>& forces() const { return forces_; }  // at the last evaluation
     const Scene& scene() const { return scene_; }
     const ContactSettings& settings() const { return settings_; }
 
@@ -51,7 +56,9 @@ private:
     std::map<Key, FrictionState> anchors_;
     std::vector<Contact> contacts_;
     std::vector<ContactForce> forces_;
-    Eigen::VectorXd tau_;
+    // Forces at data's state (kinematics current) into forces_ and, when
+    // given, next anchors; tau gets their generalised efforts.
+    void evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau, std::map<Key, FrictionState>* next);
 };
 
 // Adds the generalised effort of world force f applied at world point p of
