@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "builder.h"
+#include "contact_scenes.h"
 #include "memory_host.h"
 #include "assembly/host_reader.h"
 #include "core/progress.h"
@@ -40,38 +40,21 @@ Eigen::Vector3d place(int k) {
 }
 
 double mbx_rate(int n, double seconds) {
-    using namespace mbx_stub::build;
-    mbx_memory::Assembly a;
-    a.name = "pile";
-    const mbx_units si{1, 1, 1};
-    Builder b(a, "pile", si, si);
-    b.body("ground", "Ground", MBX_BODY_GROUND, 1.0, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), Mat3::Identity());
-    for (int k = 0; k < n; ++k) {
-        const Vec3 p = place(k);
-        b.body("box" + std::to_string(k), "Box", 0, kMass, Mat3::Identity(), p, p, box_inertia(kMass, kSide, kSide, kSide));
-    }
+    std::vector<mbx_test::FreePart> parts;
+    for (int k = 0; k < n; ++k) parts.push_back({kMass, mbx_stub::build::box_inertia(kMass, kSide, kSide, kSide), place(k)});
+    mbx_memory::Assembly a = mbx_test::free_parts("pile", parts);
     mbx_memory::Host host(std::move(a));
     mbx::Progress progress(nullptr, nullptr);
     mbx::Findings findings;
     mbx::Assembly assembly = mbx::read_host(host.table(), mbx::HostReadOptions{}, progress, findings);
     auto mech = mbx::translate_assembly(std::move(assembly), std::move(findings), mbx::TranslateOptions{}, progress);
     const mbx::sim::Model model = mbx::sim::build_model(*mech);
-    std::vector<mbx::sim::contact::Shape> shapes(1);
-    shapes[0].kind = mbx::sim::contact::ShapeKind::HalfSpace, shapes[0].name = "ground";
-    for (int body = 1; body < model.body_count(); ++body) {
-        mbx::sim::contact::Shape s;
-        s.kind = mbx::sim::contact::ShapeKind::Box, s.name = "box", s.body = body;
-        s.size = Eigen::Vector3d(kSide, kSide, kSide);
-        shapes.push_back(s);
-    }
-    mbx::sim::contact::ContactSettings cs;
+    std::vector<mbx::sim::contact::Shape> shapes{mbx_test::ground_plane()};
+    for (int body = 1; body < model.body_count(); ++body) shapes.push_back(mbx_test::box_shape(body, kSide));
     // Per-corner springs sized so that the explicit step stays stable at
     // 1 ms for the box's rocking and twisting modes too (their damping, four
     // corners at the half side, is what limits the step): half-critical.
-    cs.normal.model = mbx::sim::contact::NormalModel::SpringDamper, cs.normal.exponent = 1, cs.normal.stiffness = 5e4;
-    cs.normal.damping = 0.5 * 2 * std::sqrt(cs.normal.stiffness * kMass / 4);
-    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5, cs.friction.stiffness = 1e4;
-    cs.friction.damping = 0.5 * 2 * std::sqrt(cs.friction.stiffness * kMass / 4);
+    const mbx::sim::contact::ContactSettings cs = mbx_test::corner_contact(kMass, 5e4, 1e4, 0.5);
     mbx::sim::contact::ContactWorld world(model, shapes, cs);
     mbx::sim::Data d(model);
     d.q = model.q_reference;

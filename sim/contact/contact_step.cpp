@@ -53,16 +53,23 @@ void ContactWorld::evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau,
     }
 }
 
-void ContactWorld::apply(const Model& m, Data& d) { evaluate(m, d, d.qfrc_applied, nullptr); }
+void ContactWorld::apply(const Model& m, Data& d) {
+    if (cached_ && d.time == cached_time_ && d.q == cached_q_ && d.v == cached_v_) {
+        d.qfrc_applied += cached_tau_;
+        return;
+    }
+    evaluate(m, d, d.qfrc_applied, nullptr);
+}
 
 void ContactWorld::step_taken(const Model& m, Data& d) {
-    // The anchors move with the kept step's end state; the forces found on
-    // the way are what forces() reports until the next evaluation.
-    if (!settings_.friction_spring) return;
+    // The anchors move with the kept step's end state. The forces there are
+    // the same with the old anchors and the new ones (the new are the old
+    // ones' own update at this state), so they serve the next evaluation.
     std::map<Key, FrictionState> next;
-    Eigen::VectorXd scratch = Eigen::VectorXd::Zero(m.nv);
-    evaluate(m, d, scratch, &next);
-    anchors_ = std::move(next);
+    cached_tau_.setZero(m.nv);
+    evaluate(m, d, cached_tau_, settings_.friction_spring ? &next : nullptr);
+    if (settings_.friction_spring) anchors_ = std::move(next);
+    cached_ = true, cached_time_ = d.time, cached_q_ = d.q, cached_v_ = d.v;
 }
 
 void ContactWorld::step(const Model& m, Data& d, const IntegratorSettings& s) {

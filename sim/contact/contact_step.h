@@ -59,6 +59,11 @@ private:
     // Forces at data's state (kinematics current) into forces_ and, when
     // given, next anchors; tau gets their generalised efforts.
     void evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau, std::map<Key, FrictionState>* next);
+    // The kept step's end state and its efforts: the next step starts there
+    // (Euler's one evaluation, RK4's first stage), so they serve again.
+    bool cached_ = false;
+    double cached_time_ = 0;
+    Eigen::VectorXd cached_q_, cached_v_, cached_tau_;
 };
 
 // Adds the generalised effort of world force f applied at world point p of

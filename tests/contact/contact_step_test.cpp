@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "builder.h"
+#include "contact_scenes.h"
 #include "export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
@@ -26,14 +26,7 @@ struct FreeBody {
     std::unique_ptr<xtest::Translated> t;
     sim::Model model;
     explicit FreeBody(double mass, const Mat3& inertia) {
-        using namespace mbx_stub::build;
-        mbx_memory::Assembly a;
-        a.name = "free";
-        const mbx_units si{1, 1, 1};
-        Builder b(a, "free", si, si);
-        b.body("ground", "Ground", MBX_BODY_GROUND, 1.0, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), Mat3::Identity());
-        b.body("body", "Body", 0, mass, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), inertia);
-        t = xtest::translate(std::move(a));
+        t = xtest::translate(mbx_test::free_parts("free", {{mass, inertia, Vec3::Zero()}}));
         model = sim::build_model(*t->mechanism);
         REQUIRE(model.nv == 6);
         REQUIRE(model.joints[0].kind == sim::JointKind::Free);
@@ -41,12 +34,7 @@ struct FreeBody {
     int body() const { return 1; }
 };
 
-Shape ground(double tilt = 0) {
-    Shape s;
-    s.kind = ShapeKind::HalfSpace, s.name = "ground", s.body = 0;
-    s.rotation = Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    return s;
-}
+Shape ground(double tilt = 0) { return mbx_test::ground_plane(tilt); }
 
 void set_pose(sim::Data& d, const Eigen::Vector3d& p, const Eigen::Quaterniond& q = Eigen::Quaterniond::Identity()) {
     d.q.head<3>() = p;
@@ -96,11 +84,8 @@ TEST_CASE("contact: a ball dropped with restitution e rebounds to e^2 of its hei
 TEST_CASE("contact: a box resting on the plane sinks m g / 4k and stays level") {
     const double m = 2, a = 0.1;
     FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
-    Shape box;
-    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
-    ContactSettings cs;
-    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
-    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
+    const Shape box = mbx_test::box_shape(fb.body(), a);
+    const ContactSettings cs = mbx_test::corner_contact(m);
     ContactWorld world(fb.model, {ground(), box}, cs);
     sim::Data d(fb.model);
     set_pose(d, Eigen::Vector3d(0, 0, a / 2 + 0.001));
@@ -118,13 +103,8 @@ TEST_CASE("contact: a box resting on the plane sinks m g / 4k and stays level") 
 TEST_CASE("contact: on an incline the friction spring holds below atan(mu_s), above it the box slides at g (sin - mu_k cos)") {
     const double m = 1, a = 0.1;
     FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
-    Shape box;
-    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
-    ContactSettings cs;
-    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
-    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
-    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5, cs.friction.stiffness = 2e4;
-    cs.friction.damping = 2 * std::sqrt(cs.friction.stiffness * m / 4);
+    const Shape box = mbx_test::box_shape(fb.body(), a);
+    const ContactSettings cs = mbx_test::corner_contact(m);
     for (double degrees : {25.0, 35.0}) {
         const double theta = degrees * M_PI / 180;
         ContactWorld world(fb.model, {ground(theta), box}, cs);
@@ -157,12 +137,8 @@ TEST_CASE("contact: on an incline the friction spring holds below atan(mu_s), ab
 TEST_CASE("contact: the regularised law lets the box creep down the 25 degree incline the friction spring holds") {
     const double m = 1, a = 0.1, theta = 25 * M_PI / 180;
     FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
-    Shape box;
-    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
-    ContactSettings cs;
-    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
-    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
-    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5;
+    const Shape box = mbx_test::box_shape(fb.body(), a);
+    ContactSettings cs = mbx_test::corner_contact(m);
     cs.friction_spring = false, cs.smoothing_speed = 1e-3;
     ContactWorld world(fb.model, {ground(theta), box}, cs);
     sim::Data d(fb.model);
@@ -217,13 +193,8 @@ TEST_CASE("contact: a sliding ball starts rolling at t = 2 v0 / (7 mu g) with v 
 TEST_CASE("contact: a box pushed just below mu_s m g stays, just above it slides at (F - mu_k m g) / m") {
     const double m = 1, a = 0.1;
     FreeBody fb(m, (m * a * a / 6) * Mat3::Identity());
-    Shape box;
-    box.kind = ShapeKind::Box, box.name = "box", box.body = fb.body(), box.size = Eigen::Vector3d(a, a, a);
-    ContactSettings cs;
-    cs.normal.model = NormalModel::SpringDamper, cs.normal.stiffness = 1e5, cs.normal.exponent = 1;
-    cs.normal.damping = 2 * std::sqrt(cs.normal.stiffness * m / 4);
-    cs.friction.mu_static = 0.6, cs.friction.mu_kinetic = 0.5, cs.friction.stiffness = 2e4;
-    cs.friction.damping = 2 * std::sqrt(cs.friction.stiffness * m / 4);
+    const Shape box = mbx_test::box_shape(fb.body(), a);
+    const ContactSettings cs = mbx_test::corner_contact(m);
     for (double share : {0.95, 1.05}) {
         ContactWorld world(fb.model, {ground(), box}, cs);
         sim::Data d(fb.model);

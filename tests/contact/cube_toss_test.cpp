@@ -16,7 +16,7 @@
 #include <map>
 #include <sstream>
 
-#include "builder.h"
+#include "contact_scenes.h"
 #include "export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
@@ -101,24 +101,14 @@ struct Cube {
     std::unique_ptr<xtest::Translated> t;
     sim::Model model;
     Cube() {
-        using namespace mbx_stub::build;
-        mbx_memory::Assembly a;
-        a.name = "cube";
-        const mbx_units si{1, 1, 1};
-        Builder b(a, "cube", si, si);
-        b.body("board", "Board", MBX_BODY_GROUND, 1.0, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), Mat3::Identity());
-        b.body("cube", "Cube", 0, kMass, Mat3::Identity(), Vec3::Zero(), Vec3::Zero(), kInertia * Mat3::Identity());
-        t = xtest::translate(std::move(a));
+        t = xtest::translate(mbx_test::free_parts("cube", {{kMass, kInertia * Mat3::Identity(), Vec3::Zero()}}));
         model = sim::build_model(*t->mechanism);
         REQUIRE(model.nv == 6);
     }
 };
 
 Score mbx_rollout(const Cube& cube, const Toss& toss, const ContactSettings& cs) {
-    Shape board, box;
-    board.kind = ShapeKind::HalfSpace, board.name = "board";
-    box.kind = ShapeKind::Box, box.name = "cube", box.body = 1, box.size = Eigen::Vector3d(kEdge, kEdge, kEdge);
-    ContactWorld world(cube.model, {board, box}, cs);
+    ContactWorld world(cube.model, {mbx_test::ground_plane(), mbx_test::box_shape(1, kEdge)}, cs);
     sim::Data d(cube.model);
     const Sample& s0 = toss.front();
     d.q << s0.p, s0.q.w(), s0.q.x(), s0.q.y(), s0.q.z();
