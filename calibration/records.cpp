@@ -80,6 +80,19 @@ Table read_csv_text(const std::string& text, const std::string& path) {
     return t;
 }
 
+int joint_of_key(const sim::Model& m, const std::string& key, const std::string& file, int line) {
+    bool ambiguous = false;
+    const int j = sim::find_joint(m, key, &ambiguous);
+    if (j < 0)
+        fail(file, line,
+             ambiguous ? "joint '" + key + "' names several joints; give its CAD constraint id"
+                       : "no joint '" + key + "' in the model (CAD constraint id or report name)");
+    const sim::JointT<double>& joint = m.joints[size_t(j)];
+    if (joint.nv() != 1)
+        fail(file, line, "joint '" + joint.name + "' has no single coordinate (only revolute and prismatic joints can be measured)");
+    return j;
+}
+
 std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
     // Bind columns to joints first: one error for an unknown joint, whatever the records.
     struct Binding {
@@ -91,15 +104,8 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
     for (const ColumnSpec& c : e.columns) {
         if (!c.body.empty())
             fail(e.path, c.line, "column '" + c.name + "': body quantities are not supported yet (give a joint)");
-        bool ambiguous = false;
-        const int j = sim::find_joint(m, c.joint, &ambiguous);
-        if (j < 0)
-            fail(e.path, c.line,
-                 ambiguous ? "joint '" + c.joint + "' names several joints; give its CAD constraint id"
-                           : "no joint '" + c.joint + "' in the model (CAD constraint id or report name)");
+        const int j = joint_of_key(m, c.joint, e.path, c.line);
         const sim::JointT<double>& joint = m.joints[size_t(j)];
-        if (joint.nv() != 1)
-            fail(e.path, c.line, "joint '" + joint.name + "' has no single coordinate (only revolute and prismatic joints can be measured)");
         const bool linear = joint.kind == sim::JointKind::Prismatic;
         double factor = 1;
         if (!unit_factor(c.quantity, c.unit, linear, factor))

@@ -38,6 +38,11 @@ struct Record {
 // Below this a record (after its window) cannot tell the causes apart.
 constexpr size_t kMinimumSamples = 50;
 
+// The 1-dof joint a <column> or <compare> names (CAD constraint id or report
+// name); throws mbx::Error naming file and line for no joint, an ambiguous
+// name, or a joint without a single coordinate.
+int joint_of_key(const sim::Model& m, const std::string& key, const std::string& file, int line);
+
 // Reads every record of `e` and binds its columns to `m`'s joints (CAD
 // constraint id or report name). Throws mbx::Error naming file and line:
 // unknown joint, a unit of the wrong kind for it, a missing column, a cell

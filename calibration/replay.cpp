@@ -254,14 +254,8 @@ std::vector<ComparedSignal> compared_signals(const Experiment& e, const sim::Mod
     std::vector<ComparedSignal> out;
     for (const CompareSpec& c : e.compare) {
         if (!c.body.empty()) fail(e.path, c.line, "<compare> of a body quantity is not supported yet (give a joint)");
-        bool ambiguous = false;
-        const int j = sim::find_joint(m, c.joint, &ambiguous);
-        if (j < 0)
-            fail(e.path, c.line,
-                 ambiguous ? "joint '" + c.joint + "' names several joints; give its CAD constraint id"
-                           : "no joint '" + c.joint + "' in the model (CAD constraint id or report name)");
+        const int j = joint_of_key(m, c.joint, e.path, c.line);
         const sim::JointT<double>& joint = m.joints[size_t(j)];
-        if (joint.nv() != 1) fail(e.path, c.line, "joint '" + joint.name + "' has no single coordinate");
         ComparedSignal s;
         s.joint = j, s.dof = joint.v_index, s.q_index = joint.q_index;
         s.quantity = c.quantity, s.weight = c.weight, s.start = c.start, s.stop = c.stop, s.line = c.line;
