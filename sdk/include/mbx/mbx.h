@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 8u
+#define MBX_ABI_VERSION 9u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -1061,6 +1061,7 @@ typedef struct mbx_api {
     mbx_status (*calibration_get_cause)(const mbx_calibration *, uint32_t, mbx_calibration_cause *);
     mbx_status (*calibration_get_parameter)(const mbx_calibration *, uint32_t, uint32_t, mbx_calibration_parameter *);
     const char *(*calibration_get_warning)(const mbx_calibration *, uint32_t);
+    /* --- version 9 --- */
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"
