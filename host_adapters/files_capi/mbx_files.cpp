@@ -1,0 +1,67 @@
+// The C face of the PMXML + VRML file adapter (see include/mbx/mbx_files.h).
+// Every exception stops here: a C caller gets a status and a message.
+#include <mbx/mbx_files.h>
+
+#include <exception>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "file_adapter.h"
+
+struct mbx_file_host {
+    std::unique_ptr<mbx_files::FileAdapter> adapter;
+};
+
+namespace {
+
+// Per thread, so concurrent opens on different threads do not share it.
+thread_local std::string g_file, g_message;
+
+int fail(mbx_files_error* error, std::string file, int line, std::string message) {
+    g_file = std::move(file);
+    g_message = std::move(message);
+    if (error && error->struct_size >= sizeof(mbx_files_error)) {
+        error->file = g_file.c_str();
+        error->line = line;
+        error->message = g_message.c_str();
+    }
+    return 1;
+}
+
+}  // namespace
+
+extern "C" int mbx_files_open(const char* xml_path, const mbx_files_options* options, mbx_file_host** out,
+                              mbx_files_error* error) {
+    if (!out) return fail(error, "", 0, "mbx_files_open: out is NULL");
+    *out = nullptr;
+    if (!xml_path || !*xml_path) return fail(error, "", 0, "mbx_files_open: no XML file given");
+    if (options && options->struct_size < sizeof(mbx_files_options))
+        return fail(error, xml_path, 0, "mbx_files_open: options.struct_size is too small");
+    try {
+        mbx_files::FileAdapterOptions o;
+        if (options) {
+            if (options->shapes) o.shapes_path = options->shapes;
+            if (options->mesh_dir_count && !options->mesh_dirs)
+                return fail(error, xml_path, 0, "mbx_files_open: mesh_dir_count > 0 but mesh_dirs is NULL");
+            for (uint32_t i = 0; i < options->mesh_dir_count; ++i)
+                if (options->mesh_dirs[i]) o.mesh_dirs.emplace_back(options->mesh_dirs[i]);
+        }
+        auto files = std::make_unique<mbx_file_host>();
+        files->adapter = mbx_files::FileAdapter::open(xml_path, o);
+        *out = files.release();
+        return 0;
+    } catch (const mbx_files::FileError& e) {
+        return fail(error, e.file(), e.line(), e.message());
+    } catch (const std::bad_alloc&) {
+        return fail(error, xml_path, 0, "out of memory");
+    } catch (const std::exception& e) {
+        return fail(error, xml_path, 0, e.what());
+    }
+}
+
+extern "C" const mbx_host* mbx_files_host(const mbx_file_host* files) {
+    return files && files->adapter ? files->adapter->table() : nullptr;
+}
+
+extern "C" void mbx_files_close(mbx_file_host* files) { delete files; }
