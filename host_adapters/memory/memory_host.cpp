@@ -10,6 +10,7 @@
 #include <limits>
 #include <new>
 #include <unordered_map>
+#include <utility>
 
 #include "memory_host.h"
 
@@ -80,6 +81,7 @@ int get_body(void* user_data, size_t index, mbx_body_desc* out, char* message, s
     STUB_COPY(out, mbx_body_desc, com, b.com);
     STUB_COPY(out, mbx_body_desc, inertia, b.inertia);
     STUB_SET(out, mbx_body_desc, pose, b.pose);
+    STUB_SET(out, mbx_body_desc, volume, b.volume);
     return 0;
 }
 
@@ -211,6 +213,13 @@ int get_diagnostic(void* user_data, size_t index, mbx_host_diagnostic* out) {
     return 0;
 }
 
+int get_assembly_mass(void* user_data, double* out_mass_kg) {
+    const State& s = state(user_data);
+    if (!out_mass_kg || !(s.assembly.mass > 0)) return 1;  // none stated
+    *out_mass_kg = s.assembly.mass;
+    return 0;
+}
+
 int describe_assembly(void* user_data, const char** out_name, const char** out_source) {
     const State& s = state(user_data);
     if (out_name) *out_name = s.assembly.name.c_str();
@@ -235,6 +244,7 @@ void init(State& s) {
     t.describe_assembly = describe_assembly;
     t.diagnostic_count = diagnostic_count;
     t.get_diagnostic = get_diagnostic;
+    t.get_assembly_mass = get_assembly_mass;
 
     // An old host's table: the version-1 prefix and not one byte more.
     s.v1_block = std::malloc(MBX_HOST_V1_SIZE);
@@ -276,5 +286,6 @@ void Host::reset_counts() {
 }
 const Assembly& Host::assembly() const { return state_->assembly; }
 const Faults& Host::faults() const { return state_->faults; }
+void Host::add_diagnostic(Diagnostic diagnostic) { state_->assembly.diagnostics.push_back(std::move(diagnostic)); }
 
 }  // namespace mbx_memory

@@ -27,6 +27,7 @@ struct Body {
     double com[3]{};      // body frame
     double inertia[9]{};  // about the CoM, body axes, row-major
     mbx_pose pose{};      // world
+    double volume = 0;    // CAD solid volume in the cube of units.length_to_m; 0 = unknown
 };
 
 struct Frame {
@@ -77,6 +78,7 @@ struct Assembly {
     std::vector<Constraint> constraints;
     std::map<std::string, std::vector<Mesh>> shapes;  // by body id
     std::vector<Diagnostic> diagnostics;
+    double mass = 0;  // the whole assembly's mass as the CAD states it, kg; 0 = none stated
 };
 
 // Produces the meshes of one body on demand (file adapters load mesh files
@@ -126,6 +128,11 @@ public:
 
     const Assembly& assembly() const;
     const Faults& faults() const;
+
+    // Appends a diagnostic the SDK will see: at once if it has not pulled
+    // them yet, else after the get_shapes call that is running (a version-4
+    // host's list only grows). For shape sources that fail late.
+    void add_diagnostic(Diagnostic diagnostic);
 
     struct State;  // what user_data points at
 

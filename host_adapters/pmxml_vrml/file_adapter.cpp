@@ -18,6 +18,7 @@ struct FileAdapter::Lazy {
     std::string xml_file;
     std::map<std::string, Source> files;  // by body id
     std::vector<mbx_memory::Diagnostic> late;
+    mbx_memory::Host* host = nullptr;  // serves `late` too, so they become findings
 
     bool load(const mbx_memory::Body& body, std::vector<mbx_memory::Mesh>& out) {
         const auto it = files.find(body.id);
@@ -37,6 +38,7 @@ struct FileAdapter::Lazy {
         d.line = it->second.line;
         d.message = "mesh file '" + it->second.path + "' of body '" + it->second.body_name +
                     "' could not be read: " + error + "; the body gets no mesh from it";
+        if (host) host->add_diagnostic(d);
         late.push_back(std::move(d));
         return true;  // a broken mesh must not fail the translation
     }
@@ -220,6 +222,7 @@ std::unique_ptr<FileAdapter> FileAdapter::open(const std::string& xml_path, cons
     mbx_memory::ShapeSource source = [lazy](const mbx_memory::Body& body, std::vector<mbx_memory::Mesh>& out,
                                             std::string&) { return lazy->load(body, out); };
     self->host_ = std::make_unique<mbx_memory::Host>(std::move(assembly), mbx_memory::Faults{}, std::move(source));
+    lazy->host = self->host_.get();
     return self;
 }
 

@@ -55,8 +55,9 @@ public:
     // VRML meshes matched to a body that already has its own mesh file, and dropped.
     size_t superseded_vrml_meshes() const;
     // Mesh files that passed the open-time check but failed to load when the
-    // SDK asked for them. The SDK pulls diagnostics once before translating,
-    // so these cannot reach its findings; the body simply has no shape.
+    // SDK asked for them (the body simply has no shape). The host serves them
+    // as diagnostics appended while it served the shapes, so they are also
+    // findings of the mechanism from then on.
     std::vector<mbx_memory::Diagnostic> late_diagnostics() const;
 
     struct Lazy;  // mesh files, shared with the host's shape source

@@ -24,6 +24,8 @@ mbx_memory::Assembly to_assembly(const PmxmlModel& model) {
         body.flags = b.flags;
         body.units = {cs1.length_to_m, b.mass_to_kg, b.inertia_to_kg_m2};
         body.mass = b.mass;
+        // The host table wants the volume in the cube of the body's length unit.
+        body.volume = b.volume * b.volume_to_m3 / (cs1.length_to_m * cs1.length_to_m * cs1.length_to_m);
         for (int i = 0; i < 3; ++i) body.com[i] = b.com[i];
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) body.inertia[3 * i + j] = b.inertia(i, j);

@@ -43,6 +43,8 @@ struct PmxmlBody {
     double mass = 0;
     std::string mass_unit;
     double mass_to_kg = 1;
+    double volume = 0;  // CAD solid volume in volume_to_m3 units; 0 if absent
+    double volume_to_m3 = 1;
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the CG, CS1 axes, inertia unit
     std::string inertia_unit;
     double inertia_to_kg_m2 = 1;

@@ -269,6 +269,11 @@ private:
 
         body.mass = number(need(b, "mass", who), who);
         body.mass_to_kg = unit_or_si(b, "massUnits", body.mass == 0, Quantity::mass, body.mass_unit, who);
+        if (const pugi::xml_node v = b.child("volume"); v && !unquote(v.child_value()).empty()) {
+            body.volume = number(v, who);
+            std::string volume_unit;
+            body.volume_to_m3 = unit_or_si(b, "volumeUnits", body.volume == 0, Quantity::volume, volume_unit, who);
+        }
         double inertia[9];
         numbers(need(b, "inertia", who), inertia, 9, who);
         bool zero = true;

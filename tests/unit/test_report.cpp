@@ -204,7 +204,7 @@ TEST_CASE("report json: parts and bodies") {
     const json& parts = j["parts"];
     REQUIRE(parts.size() == 5);
     CHECK(parts[0] == json{{"id", "p-base"}, {"name", "Base"}, {"flags", {"ground"}}, {"mass", 10}, {"rigid_body", 0},
-                           {"shape_check", nullptr}});
+                           {"cad_volume_m3", nullptr}, {"cad_density_kg_m3", nullptr}, {"shape_check", nullptr}});
     CHECK(parts[2]["rigid_body"] == 1);
     CHECK(parts[4]["flags"] == json{"ground", "helper"});
     CHECK(parts[4]["rigid_body"].is_null());

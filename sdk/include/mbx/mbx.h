@@ -184,6 +184,11 @@ typedef struct mbx_body_desc {
     double com[3];
     double inertia[9]; /* row-major, symmetric */
     mbx_pose pose;
+    /* --- host ABI 4 --- */
+    /* Solid volume of the part in the cube of its length unit (units.length_to_m),
+     * as the CAD system computed it; 0 = unknown. With it the SDK checks that
+     * mass / volume is a real material's density (MBX_FINDING_IMPLAUSIBLE_DENSITY). */
+    double volume;
 } mbx_body_desc;
 
 typedef enum mbx_frame_reference {
@@ -274,7 +279,7 @@ typedef struct mbx_host_diagnostic {
     const char *message;
 } mbx_host_diagnostic;
 
-#define MBX_HOST_ABI_VERSION 3u
+#define MBX_HOST_ABI_VERSION 4u
 
 /*
  * The callback table a CAD host implements (as sqlite3_vfs). Callbacks return
@@ -285,7 +290,12 @@ typedef struct mbx_host_diagnostic {
  * into the same host; the SDK copies them.
  *
  * Version 1 ends at get_shapes. Version 2 appended describe_assembly,
- * version 3 diagnostic_count and get_diagnostic.
+ * version 3 diagnostic_count and get_diagnostic, version 4 the body volume
+ * (mbx_body_desc.volume) and get_assembly_mass. From version 4 on, a host may
+ * append diagnostics (never change or drop earlier ones) while it serves
+ * get_shapes, e.g. for a mesh file that only fails when it is loaded; after
+ * each get_shapes call the SDK pulls the new ones into the mechanism's
+ * findings. The diagnostics of an older host are pulled once.
  * The table must stay valid, and its callbacks callable, for as long as a
  * mechanism created from it may still ask for shapes (until
  * mbx_mechanism_destroy or mbx_mechanism_release_host).
@@ -319,6 +329,13 @@ typedef struct mbx_host {
      * before the bodies. */
     int (*diagnostic_count)(void *user_data, size_t *out_count);
     int (*get_diagnostic)(void *user_data, size_t index, mbx_host_diagnostic *out);
+
+    /* --- version 4 --- */
+    /* Optional (may be NULL): the whole assembly's mass as the CAD system
+     * states it, in kg; return non-zero (or leave 0) if it states none. The
+     * SDK compares it with the sum of the parts' masses
+     * (MBX_FINDING_ASSEMBLY_MASS_MISMATCH). */
+    int (*get_assembly_mass)(void *user_data, double *out_mass_kg);
 } mbx_host;
 
 /* Size of the version-1 table, for hosts and tests that need it. */
@@ -482,7 +499,10 @@ typedef enum mbx_finding_code {
     /* ABI 4: notes from mbx_mechanism_export */
     MBX_FINDING_EXPORT_LOOPS_AS_TREE = 21,    /* target has no loops: spanning tree + cut-joint sidecar */
     MBX_FINDING_EXPORT_APPROXIMATION = 22,    /* target cannot express something exactly; says what changed */
-    MBX_FINDING_EXPORT_MESH_MISSING = 23      /* a body's geometry could not be loaded; exported without it */
+    MBX_FINDING_EXPORT_MESH_MISSING = 23,     /* a body's geometry could not be loaded; exported without it */
+    /* ABI 9 */
+    MBX_FINDING_IMPLAUSIBLE_DENSITY = 24,     /* CAD mass / CAD volume is no real material's density */
+    MBX_FINDING_ASSEMBLY_MASS_MISMATCH = 25   /* host's assembly mass far from the sum of its parts */
 } mbx_finding_code;
 
 typedef struct mbx_finding {

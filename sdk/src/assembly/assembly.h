@@ -19,6 +19,10 @@ struct Part {
     Vec3 com = Vec3::Zero();          // body frame, m
     Mat3 inertia = Mat3::Zero();      // about com, body axes, kg m^2
     Pose pose;                        // world, m
+    double volume = 0;                // CAD solid volume, m^3; 0 = unknown
+    // mass / volume as the host wrote both (its own units), 0 if unknown: 1
+    // there is a CAD default density whatever the units are.
+    double host_density = 0;
 
     bool is_ground() const { return flags & MBX_BODY_GROUND; }
     bool is_helper() const { return flags & MBX_BODY_HELPER; }
@@ -63,6 +67,10 @@ struct Assembly {
     std::vector<Frame> frames;
     std::vector<Constraint> constraints;
     double size = 1.0;  // bounding-box diagonal of part and frame origins, m (>0)
+    double stated_mass = 0;  // kg, the host's whole-assembly mass; 0 = not stated
+    // Host diagnostics pulled so far: a version-4 host may append more while
+    // it serves shapes, and those are pulled from here on.
+    size_t host_diagnostics_read = 0;
 
     size_t cad_part_count() const {
         size_t n = 0;

@@ -40,6 +40,39 @@ Mat3 row_major(const double* r) {
     return m;
 }
 
+}  // namespace
+
+size_t pull_host_diagnostics(const mbx_host& host, size_t from, Findings& findings) {
+    if (!host_has(&host, offsetof(mbx_host, get_diagnostic) + sizeof(host.get_diagnostic)) ||
+        !host.diagnostic_count || !host.get_diagnostic)
+        return from;
+    size_t n = 0;
+    if (host.diagnostic_count(host.user_data, &n) != 0)
+        throw Error(MBX_ERROR_HOST_CALLBACK, {}, "host failed to report its diagnostic count");
+    for (size_t i = from; i < n; ++i) {
+        mbx_host_diagnostic d;
+        std::memset(&d, 0, sizeof d);
+        d.struct_size = sizeof d;
+        if (host.get_diagnostic(host.user_data, i, &d) != 0)
+            throw Error(MBX_ERROR_HOST_CALLBACK, {}, "host failed to deliver diagnostic #" + std::to_string(i));
+        Finding f;
+        const int severity = enum_int(d.severity), kind = enum_int(d.subject_kind);
+        f.severity = severity >= MBX_SEVERITY_INFO && severity <= MBX_SEVERITY_ERROR ? mbx_severity(severity)
+                                                                                     : MBX_SEVERITY_WARNING;
+        f.code = MBX_FINDING_HOST_DIAGNOSTIC;
+        f.code_text = str(d.code);
+        f.subject = {kind >= MBX_SUBJECT_NONE && kind <= MBX_SUBJECT_MODEL ? mbx_subject_kind(kind) : MBX_SUBJECT_NONE,
+                     str(d.subject_id), str(d.subject_name)};
+        f.message = str(d.message);
+        f.file = str(d.file);
+        f.line = d.line;
+        findings.push_back(std::move(f));
+    }
+    return n > from ? n : from;
+}
+
+namespace {
+
 class Reader {
 public:
     Reader(const mbx_host* host, const HostReadOptions& options, Progress& progress, Findings& findings)
@@ -60,6 +93,7 @@ public:
         read_bodies();
         read_frames();
         read_constraints();
+        read_assembly_mass();
         out_.size = assembly_size();
         return std::move(out_);
     }
@@ -133,32 +167,7 @@ private:
             throw Error(MBX_ERROR_INVALID_INPUT, s, "negative unit factor for '" + s.id + "'");
     }
 
-    void read_diagnostics() {
-        if (!host_has(host_, offsetof(mbx_host, get_diagnostic) + sizeof(host_->get_diagnostic)) ||
-            !host_->diagnostic_count || !host_->get_diagnostic)
-            return;
-        const size_t n = count(host_->diagnostic_count, "diagnostic");
-        for (size_t i = 0; i < n; ++i) {
-            mbx_host_diagnostic d;
-            std::memset(&d, 0, sizeof d);
-            d.struct_size = sizeof d;
-            if (host_->get_diagnostic(host_->user_data, i, &d) != 0)
-                throw Error(MBX_ERROR_HOST_CALLBACK, {}, "host failed to deliver diagnostic #" + std::to_string(i));
-            Finding f;
-            const int severity = enum_int(d.severity), kind = enum_int(d.subject_kind);
-            f.severity = severity >= MBX_SEVERITY_INFO && severity <= MBX_SEVERITY_ERROR ? mbx_severity(severity)
-                                                                                         : MBX_SEVERITY_WARNING;
-            f.code = MBX_FINDING_HOST_DIAGNOSTIC;
-            f.code_text = str(d.code);
-            f.subject = {kind >= MBX_SUBJECT_NONE && kind <= MBX_SUBJECT_MODEL ? mbx_subject_kind(kind)
-                                                                               : MBX_SUBJECT_NONE,
-                         str(d.subject_id), str(d.subject_name)};
-            f.message = str(d.message);
-            f.file = str(d.file);
-            f.line = d.line;
-            findings_.push_back(std::move(f));
-        }
-    }
+    void read_diagnostics() { out_.host_diagnostics_read = pull_host_diagnostics(*host_, 0, findings_); }
 
     // Calls a host getter with a zeroed descriptor of the SDK's size and
     // checks that the item has an id. `kind` names it in messages ("body").
@@ -209,6 +218,14 @@ private:
             p.inertia = 0.5 * (inertia + inertia.transpose());
             p.pose.position = Vec3(d.pose.position[0], d.pose.position[1], d.pose.position[2]) * len;
             p.pose.rotation = rotation(d.pose.rotation, s, "pose");
+            // Zero in the SDK's zeroed descriptor when an older host does not know the field.
+            require_finite(&d.volume, 1, s, "volume");
+            if (d.volume < 0)
+                throw Error(MBX_ERROR_INVALID_INPUT, s, "host delivered a negative volume for body '" + p.id + "'");
+            if (d.volume > 0) {
+                p.volume = d.volume * len * len * len;
+                p.host_density = d.mass / d.volume;
+            }
             out_.parts.push_back(std::move(p));
             progress_.tick();
         }
@@ -254,6 +271,17 @@ private:
             progress_.tick();
         }
         progress_.finish();
+    }
+
+    void read_assembly_mass() {
+        if (!host_has(host_, offsetof(mbx_host, get_assembly_mass) + sizeof(host_->get_assembly_mass)) ||
+            !host_->get_assembly_mass)
+            return;
+        double mass = 0;
+        if (host_->get_assembly_mass(host_->user_data, &mass) != 0) return;  // the host states none
+        require_finite(&mass, 1, Subject::model(out_.name), "assembly mass");
+        if (mass < 0) throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(out_.name), "host delivered a negative assembly mass");
+        out_.stated_mass = mass;
     }
 
     int frame_ref(const char* id, const Subject& s, const char* role) {

@@ -16,6 +16,10 @@ struct HostReadOptions {
 
 Assembly read_host(const mbx_host* host, const HostReadOptions& options, Progress& progress, Findings& findings);
 
+// Turns the host's diagnostics from index `from` on into findings and returns
+// how many the host holds now (`from` if it has no diagnostics callbacks).
+size_t pull_host_diagnostics(const mbx_host& host, size_t from, Findings& findings);
+
 // True when the table is large enough to hold `field_end` bytes.
 inline bool host_has(const mbx_host* host, size_t field_end) { return host->struct_size >= field_end; }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "assembly/host_reader.h"
+
 namespace mbx {
 namespace {
 
@@ -65,9 +67,8 @@ int add_mesh(void* data, const mbx_mesh_desc* d) {
     return 0;
 }
 
-}  // namespace
-
-std::vector<Mesh> load_body_shapes(const mbx_host& host, const Mechanism& m, int body) {
+// `record`: where the host's late diagnostics go (m itself), or null.
+std::vector<Mesh> load(const mbx_host& host, const Mechanism& m, int body, Mechanism* record) {
     std::vector<Mesh> out;
     if (!host.get_shapes) return out;
     const RigidBody& b = m.bodies[size_t(body)];
@@ -77,8 +78,13 @@ std::vector<Mesh> load_body_shapes(const mbx_host& host, const Mechanism& m, int
         SinkState state{&part, body_inv * part.pose, &out, {}};
         mbx_shape_sink sink{sizeof(mbx_shape_sink), &state, add_mesh};
         char message[512] = {0};
-        if (host.get_shapes(host.user_data, part.id.c_str(), &sink, message, sizeof message) != 0 ||
-            !state.error.empty()) {
+        const int failed = host.get_shapes(host.user_data, part.id.c_str(), &sink, message, sizeof message);
+        // Older hosts pulled theirs once and may rewrite the list; only
+        // version 4 promises that it only grows.
+        if (record && host.abi_version >= 4)
+            record->assembly.host_diagnostics_read =
+                pull_host_diagnostics(host, record->assembly.host_diagnostics_read, record->findings);
+        if (failed != 0 || !state.error.empty()) {
             std::string text = state.error.empty() ? "host failed to deliver the shapes of part '" + part.id + "'"
                                                    : state.error;
             if (message[0]) text += ": " + std::string(message, strnlen(message, sizeof message));
@@ -87,6 +93,14 @@ std::vector<Mesh> load_body_shapes(const mbx_host& host, const Mechanism& m, int
         }
     }
     return out;
+}
+
+}  // namespace
+
+std::vector<Mesh> load_body_shapes(const mbx_host& host, Mechanism& m, int body) { return load(host, m, body, &m); }
+
+std::vector<Mesh> load_body_shapes(const mbx_host& host, const Mechanism& m, int body) {
+    return load(host, m, body, nullptr);
 }
 
 }  // namespace mbx

@@ -21,6 +21,13 @@ struct Mesh {
 
 // Loads the meshes of every part of rigid body `body`. Throws Error naming the
 // part (and the host's message) when the host fails or sends bad data.
+// Diagnostics a version-4 host appended while serving the shapes (a mesh file
+// that passed its open-time check but failed to load) join m.findings, also
+// when the host then failed.
+std::vector<Mesh> load_body_shapes(const mbx_host& host, Mechanism& m, int body);
+// The same for a mechanism that cannot take findings: the host's new
+// diagnostics stay unread, and the next load through the overload above
+// pulls them.
 std::vector<Mesh> load_body_shapes(const mbx_host& host, const Mechanism& m, int body);
 
 }  // namespace mbx

@@ -55,7 +55,7 @@ struct mbx_mechanism {
 
     // Meshes of rigid body `body`, asked from the host once, then cached.
     // `m` is passed because during translation `model` is not set yet.
-    const std::vector<mbx::Mesh>& body_shapes(const mbx::Mechanism& m, int body) {
+    const std::vector<mbx::Mesh>& body_shapes(mbx::Mechanism& m, int body) {
         if (shapes.size() < m.bodies.size()) shapes.resize(m.bodies.size());
         auto& cache = shapes[size_t(body)];
         if (!cache) cache = std::make_unique<std::vector<mbx::Mesh>>(mbx::load_body_shapes(host, m, body));

@@ -53,7 +53,7 @@ MBX_API mbx_status mbx_translate(mbx_context* context, const mbx_host* host, con
         handle->has_host = true;
         // Shapes fetched by the mass check stay cached for later consumers.
         mbx_mechanism* h = handle.get();
-        auto fetch = [h](const Mechanism& m, int body) -> const std::vector<Mesh>& { return h->body_shapes(m, body); };
+        auto fetch = [h](Mechanism& m, int body) -> const std::vector<Mesh>& { return h->body_shapes(m, body); };
         handle->model = translate_assembly(std::move(assembly), std::move(findings), opts, progress, fetch);
         *out_mechanism = handle.release();
     });

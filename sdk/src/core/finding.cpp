@@ -27,6 +27,8 @@ const char* finding_code_name(mbx_finding_code code) {
         case MBX_FINDING_EXPORT_LOOPS_AS_TREE: return "export_loops_as_tree";
         case MBX_FINDING_EXPORT_APPROXIMATION: return "export_approximation";
         case MBX_FINDING_EXPORT_MESH_MISSING: return "export_mesh_missing";
+        case MBX_FINDING_IMPLAUSIBLE_DENSITY: return "implausible_density";
+        case MBX_FINDING_ASSEMBLY_MASS_MISMATCH: return "assembly_mass_mismatch";
     }
     return "unknown";
 }

@@ -5,7 +5,8 @@
 //     spherical, total}, welds_merged, cut_joints, loops, planar_loops,
 //     collapsed_weld_loops, floating_bodies, dof, gruebler_dof,
 //     redundant_constraints, warnings, errors, length_tolerance_m},
-//   parts [{id, name, flags [..], mass, rigid_body}],
+//   parts [{id, name, flags [..], mass, rigid_body, cad_volume_m3 and
+//     cad_density_kg_m3 (null when the host gave no volume), shape_check}],
 //   bodies [{index, kind, id, name, parts [part ids], mass, com, inertia,
 //     position, rotation, parent_joint, depth}],
 //   joints [{index, name, type, constraint_id, primitive_index, parent, child,
@@ -101,6 +102,13 @@ void write_parts(JsonWriter& w, const Mechanism& m) {
         w.member("mass", p.mass);
         const int body = i < m.part_body.size() ? m.part_body[i] : -1;
         write_index_or_null(w, "rigid_body", valid_index(m.bodies, body) ? body : -1);
+        if (p.volume > 0) {
+            w.member("cad_volume_m3", p.volume);
+            w.member("cad_density_kg_m3", p.mass / p.volume);
+        } else {
+            w.key("cad_volume_m3").null();
+            w.key("cad_density_kg_m3").null();
+        }
         if (i < m.shape_checks.size() && m.shape_checks[i].checked) {
             const ShapeCheck& c = m.shape_checks[i];
             w.key("shape_check").begin_object(Layout::Inline);

@@ -16,6 +16,7 @@ std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findin
     merge_welds(*m, progress);
     build_tree(*m, progress);
     validate(*m, progress);
+    check_mass_plausibility(*m);
     if (options.check_mass_with_shapes && shapes)
         check_mass_with_shapes(*m, shapes, options.centroid_tolerance, progress);
     analyze_mobility(*m, options, progress);

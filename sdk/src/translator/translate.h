@@ -14,7 +14,8 @@ namespace mbx {
 // gathered while pulling; they come first in the report.
 struct Mesh;
 // Meshes of rigid body `body` in its frame (see assembly/shape_loader.h).
-using ShapeFetcher = std::function<const std::vector<Mesh>&(const Mechanism& m, int body)>;
+// Non-const: loading may add the host's late diagnostics to m.findings.
+using ShapeFetcher = std::function<const std::vector<Mesh>&(Mechanism& m, int body)>;
 
 std::unique_ptr<Mechanism> translate_assembly(Assembly assembly, Findings findings, const TranslateOptions& options,
                                               Progress& progress, const ShapeFetcher& shapes = {});
@@ -24,5 +25,13 @@ void merge_welds(Mechanism& m, Progress& progress);
 void build_tree(Mechanism& m, Progress& progress);
 void validate(Mechanism& m, Progress& progress);
 void check_mass_with_shapes(Mechanism& m, const ShapeFetcher& shapes, double centroid_tolerance, Progress& progress);
+
+// Densities outside [kDensityMin, kDensityMax] kg/m^3 (CAD mass / CAD volume,
+// parts with a volume only) and a host-stated assembly mass more than
+// kAssemblyMassTolerance (relative) from the parts' sum; see mass_plausibility.cpp.
+constexpr double kDensityMin = 50;
+constexpr double kDensityMax = 25000;
+constexpr double kAssemblyMassTolerance = 0.02;
+void check_mass_plausibility(Mechanism& m);
 
 }  // namespace mbx
