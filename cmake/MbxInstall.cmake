@@ -67,6 +67,8 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+# Debug info stays in the build tree; the package ships what runs.
+set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 # Depends: what dpkg-shlibdeps finds for libmbx, libmbx_files and the CLI
 # (libassimp, libsundials-cvode, libceres, libpugixml, libstdc++, ...), not a
