@@ -250,6 +250,11 @@ void inverse_effort(const sim::Model& m, const Record& r, const std::vector<Comp
 
 }  // namespace
 
+void measured_start_state(const sim::Model& m, sim::Data& d, const Record& r, size_t sample,
+                          const ReplayAdjustments& adjust) {
+    measured_state(m, d, r, sample, adjust);
+}
+
 std::vector<ComparedSignal> compared_signals(const Experiment& e, const sim::Model& m) {
     std::vector<ComparedSignal> out;
     for (const CompareSpec& c : e.compare) {

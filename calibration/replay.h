@@ -10,6 +10,7 @@
 
 #include "calibration/experiment.h"
 #include "calibration/records.h"
+#include "sim/data.h"
 #include "sim/model.h"
 
 namespace mbx::calibration {
@@ -48,6 +49,13 @@ std::vector<ComparedSignal> compared_signals(const Experiment& e, const sim::Mod
 // needs (a reference, a measured effort, a measured position) is missing.
 std::vector<std::vector<double>> replay(const sim::Model& model, const Experiment& e, const Record& record,
                                         const std::vector<ComparedSignal>& compared, const ReplayAdjustments& adjust);
+
+// The measured state at `sample` of `record`, as every forward replay
+// starts from it: each measured position and rate from a quadratic fitted to
+// the 10 ms around the sample, the sensor's offset taken off, loops closed
+// for the other coordinates. Throws mbx::Error for values no loop can take.
+void measured_start_state(const sim::Model& m, sim::Data& d, const Record& record, size_t sample,
+                          const ReplayAdjustments& adjust);
 
 // Whether `sample` of `record` counts for `signal` (its time window).
 bool in_window(const ComparedSignal& signal, const Record& record, size_t sample);
