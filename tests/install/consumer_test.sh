@@ -78,4 +78,19 @@ pc_libdir=$(pkg-config --variable=libdir mbx)
     $(pkg-config --cflags --libs mbx) -lmbx_files -lm -Wl,-rpath,"$pc_libdir"
 mkdir -p "$work/out_pkgconfig"
 "$work/c_host_pkgconfig" "$src/samples" "$work/out_pkgconfig"
+# 4. The installed Python package finds the installed libraries by itself
+# (its _paths.py), with no MBX_LIBRARY. Not in the sanitizer build: an
+# uninstrumented python3 needs the runtimes preloaded (tests/python does that).
+if [[ -z "$flags" ]] && [[ -x /usr/bin/python3 ]] && /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+    env -u MBX_LIBRARY -u MBX_FILES_LIBRARY PYTHONPATH="$prefix/lib/python3/dist-packages" PYTHONDONTWRITEBYTECODE=1 \
+        /usr/bin/python3 - "$src/samples" "$libdir" <<'PY' || fail "installed Python package"
+import os, sys
+import mbx, mbx._lib
+samples, libdir = sys.argv[1], sys.argv[2]
+assert os.path.realpath(mbx._lib.lib._name) == os.path.realpath(os.path.join(libdir, "libmbx.so.0")), mbx._lib.lib._name
+arm = mbx.translate(os.path.join(samples, "five_axis_arm", "five_axis_arm.xml"))
+assert arm.summary.rigid_body_count == 5 and arm.summary.dof == 5
+print("consumer_test: installed Python package loads", mbx._lib.lib._name)
+PY
+fi
 echo "consumer_test: installed SDK used through find_package and pkg-config"
