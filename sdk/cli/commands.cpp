@@ -149,11 +149,6 @@ int run_translate(const std::vector<std::string>& args) {
     }
     status = mbx_mechanism_write_report(c.ctx, c.mech, out_dir.c_str());
     if (status != MBX_OK) return fail(c, status, "writing the report");
-    // Mesh files that broke only when loaded came after the report's host
-    // diagnostics were taken; say so here rather than not at all.
-    if (c.adapter)
-        for (const mbx_memory::Diagnostic& d : c.adapter->late_diagnostics())
-            std::fprintf(stderr, "mbx: warning: %s:%d: %s\n", d.file.c_str(), d.line, d.message.c_str());
 
     mbx_mechanism_summary s{};
     s.struct_size = sizeof s;
