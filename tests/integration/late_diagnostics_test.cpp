@@ -147,3 +147,46 @@ TEST_CASE("late host diagnostics: a version-3 host's list is pulled only once") 
     CHECK(h.failures == 1);
     CHECK(late_findings(mech.get()) == 0);
 }
+
+TEST_CASE("late host diagnostics: what the host appended before failing get_shapes is kept with the error") {
+    mbx_stub::Assembly a = builtin("fourbar");
+    std::string crank_id;
+    for (const auto& b : a.bodies)
+        if (b.name == "Crank") crank_id = b.id;
+    std::unique_ptr<mbx_stub::Host> host;
+    mbx_memory::ShapeSource source = [&](const mbx_memory::Body& body, std::vector<mbx_memory::Mesh>&,
+                                         std::string& error) {
+        if (body.id != crank_id) return true;
+        mbx_memory::Diagnostic d;
+        d.severity = MBX_SEVERITY_ERROR;
+        d.code = "cad_kernel_crashed";
+        d.subject_kind = MBX_SUBJECT_BODY;
+        d.subject_id = body.id;
+        d.message = "the CAD kernel crashed tessellating 'Crank'";
+        host->add_diagnostic(d);
+        error = "tessellation failed";
+        return false;
+    };
+    host = std::make_unique<mbx_stub::Host>(std::move(a), mbx_stub::Faults{}, std::move(source));
+    ContextPtr ctx = make_context();
+    mbx_mechanism* raw = nullptr;
+    REQUIRE(api().translate(ctx.get(), host->table(), nullptr, &raw) == MBX_OK);
+    MechanismPtr mech(raw);
+    mbx_shape_stats s{};
+    s.struct_size = sizeof s;
+    CHECK(api().mechanism_get_shape_stats(ctx.get(), mech.get(), find_part(mech.get(), crank_id), &s) ==
+          MBX_ERROR_HOST_CALLBACK);
+    CHECK(std::string(api().context_last_error(ctx.get())).find("tessellation failed") != std::string::npos);
+    int found = 0;
+    for (uint32_t i = 0; i < api().mechanism_finding_count(mech.get()); ++i) {
+        mbx_finding f{};
+        f.struct_size = sizeof f;
+        REQUIRE(api().mechanism_get_finding(mech.get(), i, &f) == MBX_OK);
+        if (std::strcmp(f.code_name, "cad_kernel_crashed") == 0) {
+            ++found;
+            CHECK(f.severity == MBX_SEVERITY_ERROR);
+        }
+    }
+    CHECK(found == 1);
+    CHECK(summary(mech.get()).error_count >= 1);
+}
