@@ -72,6 +72,15 @@ static int translate_arm(mbx_context *ctx, const char *samples, const char *out)
     mbx_mechanism_destroy(m);
     mbx_files_close(files);
 
+    /* Bad arguments are errors with a message, not crashes. */
+    CHECK(mbx_files_open(NULL, NULL, &files, &fe) != 0 && files == NULL && strlen(fe.message) > 0);
+    CHECK(mbx_files_open(xml, NULL, NULL, &fe) != 0 && strstr(fe.message, "out") != NULL);
+    mbx_files_options small = fo;
+    small.struct_size = 4;
+    CHECK(mbx_files_open(xml, &small, &files, &fe) != 0 && strstr(fe.message, "struct_size") != NULL);
+    CHECK(mbx_files_host(NULL) == NULL);
+    mbx_files_close(NULL);
+
     /* A missing file is an error naming it, not a crash. */
     snprintf(xml, sizeof xml, "%s/no_such_file.xml", samples);
     CHECK(mbx_files_open(xml, NULL, &files, &fe) != 0);
