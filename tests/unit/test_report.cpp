@@ -396,3 +396,14 @@ TEST_CASE("report: write_report writes both files into a new directory") {
     CHECK(files == 2);
     std::filesystem::remove_all(dir.parent_path().parent_path());
 }
+
+TEST_CASE("report text: the spread of CAD densities, only when parts have a CAD volume") {
+    mbx::Mechanism m = four_part_mechanism();
+    CHECK(mbx::report_text(m).find("CAD densities") == std::string::npos);
+    m.assembly.parts[1].volume = 2 / 2700.0;   // Crank: aluminium
+    m.assembly.parts[2].volume = 0.25 / 1e9;   // Pin: the 1 kg/mm^3 default
+    m.assembly.parts[0].volume = 1;            // ground: not a moving part, not counted
+    const std::string text = mbx::report_text(m);
+    CHECK(text.find("CAD densities (2 parts with a CAD volume; 50 to 25000 kg/m^3 accepted): lightest 'Crank' 2700 "
+                    "kg/m^3, densest 'Pin'\n    1e+09 kg/m^3, 1 outside\n") != std::string::npos);
+}

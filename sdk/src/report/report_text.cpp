@@ -6,6 +6,7 @@
 #include "report/report.h"
 #include "report/report_detail.h"
 #include "report/utf8.h"
+#include "translator/translate.h"
 
 namespace mbx {
 namespace {
@@ -285,6 +286,29 @@ void write_shape_checks(Text& t, const Mechanism& m) {
     t.blank();
 }
 
+// The spread of CAD densities (mass over CAD volume), so a reader sees at a
+// glance whether a file's parts carry real materials; only with volumes.
+void write_densities(Text& t, const Mechanism& m) {
+    const Part* light = nullptr;
+    const Part* heavy = nullptr;
+    long long n = 0, outside = 0;
+    for (const Part& p : m.assembly.parts) {
+        if (p.is_helper() || p.is_ground() || !(p.mass > 0) || !(p.volume > 0)) continue;
+        const double d = p.mass / p.volume;
+        ++n;
+        outside += d < kDensityMin || d > kDensityMax;
+        if (!light || d < light->mass / light->volume) light = &p;
+        if (!heavy || d > heavy->mass / heavy->volume) heavy = &p;
+    }
+    if (n == 0) return;
+    t.raw("CAD densities (").num(n).raw(" parts with a CAD volume; ").real(kDensityMin).raw(" to ").real(kDensityMax);
+    t.raw(" kg/m^3 accepted): lightest ").quoted(light->name).raw(" ").real(light->mass / light->volume);
+    t.raw(" kg/m^3, densest ").quoted(heavy->name).raw(" ").real(heavy->mass / heavy->volume).raw(" kg/m^3, ");
+    t.num(outside).raw(" outside");
+    t.end_wrapped(4);
+    t.blank();
+}
+
 // One line per drive: what it amounts to at its joint.
 void write_drives(Text& t, const std::vector<Drive>& drives) {
     t.raw("Drives (").num(static_cast<long long>(drives.size())).raw(")").end_line();
@@ -372,6 +396,7 @@ std::string report_text(const Mechanism& m, const std::vector<Drive>* drives,
     write_loops(t, m);
     t.blank();
     write_shape_checks(t, m);
+    write_densities(t, m);
     if (drives && !drives->empty()) write_drives(t, *drives);
     if (joint_dynamics && !joint_dynamics->empty()) write_joint_dynamics(t, *joint_dynamics);
     write_findings(t, m, c);
