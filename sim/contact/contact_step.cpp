@@ -1,5 +1,7 @@
 #include "sim/contact/contact_step.h"
 
+#include <algorithm>
+
 #include "sim/dynamics.h"
 
 namespace mbx::sim::contact {
@@ -17,6 +19,22 @@ void add_point_force(const Model& m, const Data& d, int body, const Eigen::Vecto
     }
 }
 
+ContactWorld::ContactWorld(const Model& m, std::vector<Shape> shapes, ContactSettings settings,
+                           std::vector<MaterialPair> pairs)
+    : scene_(m, std::move(shapes)), settings_(settings), any_spring_(settings.friction_spring) {
+    for (const MaterialPair& p : pairs) {
+        pairs_[{std::min(p.a, p.b), std::max(p.a, p.b)}] = p.settings;
+        any_spring_ = any_spring_ || p.settings.friction_spring;
+    }
+}
+
+const ContactSettings& ContactWorld::settings_for(int shape_a, int shape_b) const {
+    if (pairs_.empty()) return settings_;
+    const int a = scene_.shapes()[size_t(shape_a)].material, b = scene_.shapes()[size_t(shape_b)].material;
+    const auto it = pairs_.find({std::min(a, b), std::max(a, b)});
+    return it == pairs_.end() ? settings_ : it->second;
+}
+
 void ContactWorld::evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau, std::map<Key, FrictionState>* next_anchors) {
     scene_.detect(d, contacts_);
     forces_.clear();
@@ -25,11 +43,12 @@ void ContactWorld::evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau,
         // Velocity of b's material point relative to a's, at the contact.
         const Eigen::Vector3d v_rel = point_velocity(d, bb, c.point).tail<3>() - point_velocity(d, ba, c.point).tail<3>();
         const double depth_rate = -c.normal.dot(v_rel);
+        const ContactSettings& settings = settings_for(c.shape_a, c.shape_b);
         ContactForce cf;
         cf.contact = c;
-        cf.normal_force = normal_force(settings_.normal, c.depth, depth_rate);
+        cf.normal_force = normal_force(settings.normal, c.depth, depth_rate);
         const Eigen::Vector3d v_t = v_rel - c.normal * c.normal.dot(v_rel);
-        if (settings_.friction_spring) {
+        if (settings.friction_spring) {
             const Key key{c.shape_a, c.shape_b, c.feature};
             const auto it = anchors_.find(key);
             FrictionState next;
@@ -38,13 +57,13 @@ void ContactWorld::evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau,
             // moving side's point; when that is a, its force on b is the reverse.
             const bool a_moves = ba != 0 && bb == 0;
             const Eigen::Vector3d f_mover =
-                spring_friction(settings_.friction, it == anchors_.end() ? FrictionState{} : it->second, c.point,
+                spring_friction(settings.friction, it == anchors_.end() ? FrictionState{} : it->second, c.point,
                                 c.normal, a_moves ? Eigen::Vector3d(-v_t) : v_t, cf.normal_force, next);
             cf.friction = a_moves ? Eigen::Vector3d(-f_mover) : f_mover;
             cf.sticking = next.sticking;
             if (next_anchors && next.active) (*next_anchors)[key] = next;
         } else {
-            cf.friction = regularised_friction(settings_.friction, cf.normal_force, v_t, settings_.smoothing_speed);
+            cf.friction = regularised_friction(settings.friction, cf.normal_force, v_t, settings.smoothing_speed);
         }
         const Eigen::Vector3d f = cf.normal_force * c.normal + cf.friction;  // onto b
         add_point_force(m, d, bb, c.point, f, tau);
@@ -67,8 +86,8 @@ void ContactWorld::step_taken(const Model& m, Data& d) {
     // ones' own update at this state), so they serve the next evaluation.
     std::map<Key, FrictionState> next;
     cached_tau_.setZero(m.nv);
-    evaluate(m, d, cached_tau_, settings_.friction_spring ? &next : nullptr);
-    if (settings_.friction_spring) anchors_ = std::move(next);
+    evaluate(m, d, cached_tau_, any_spring_ ? &next : nullptr);
+    if (any_spring_) anchors_ = std::move(next);
     cached_ = true, cached_time_ = d.time, cached_q_ = d.q, cached_v_ = d.v;
 }
 

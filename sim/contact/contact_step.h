@@ -25,6 +25,13 @@ struct ContactSettings {
     double smoothing_speed = 1e-3;  // regularised Coulomb's v_s, m/s
 };
 
+// The settings of the contacts between shapes of materials a and b (either
+// order); pairs not listed take the world's default settings.
+struct MaterialPair {
+    int a = 0, b = 0;
+    ContactSettings settings;
+};
+
 struct ContactForce {
     Contact contact;
     double normal_force = 0;       // N, along the contact normal onto shape b
@@ -34,8 +41,8 @@ struct ContactForce {
 
 class ContactWorld : public AppliedForces {
 public:
-    ContactWorld(const Model& m, std::vector<Shape> shapes, ContactSettings settings)
-        : scene_(m, std::move(shapes)), settings_(settings) {}
+    ContactWorld(const Model& m, std::vector<Shape> shapes, ContactSettings settings,
+                 std::vector<MaterialPair> pairs = {});
 
     // One fixed step (Euler or RK4 of `s`) with contact: attaches itself to
     // `d` for the step. For the accurate mode (sim::advance), or to keep it
@@ -48,11 +55,15 @@ public:
     const std::vector<ContactForce>& forces() const { return forces_; }  // at the last evaluation
     const Scene& scene() const { return scene_; }
     const ContactSettings& settings() const { return settings_; }
+    // The settings acting between two shapes of the scene.
+    const ContactSettings& settings_for(int shape_a, int shape_b) const;
 
 private:
     using Key = std::tuple<int, int, int>;  // shape a, shape b, feature
     Scene scene_;
     ContactSettings settings_;
+    std::map<std::pair<int, int>, ContactSettings> pairs_;  // (lower material, higher)
+    bool any_spring_ = false;                               // some pair uses the friction spring
     std::map<Key, FrictionState> anchors_;
     std::vector<Contact> contacts_;
     std::vector<ContactForce> forces_;

@@ -97,22 +97,28 @@ void Scene::narrowphase(int a, int b, std::vector<Contact>& out) {
     ++stats_.candidate_pairs;
     const Shape& sa = shapes_[size_t(a)];
     const Shape& sb = shapes_[size_t(b)];
-    // A box on a half-space: every corner below the plane, not only FCL's deepest one.
-    if ((sa.kind == ShapeKind::Box && sb.kind == ShapeKind::HalfSpace) ||
-        (sa.kind == ShapeKind::HalfSpace && sb.kind == ShapeKind::Box)) {
-        const bool box_first = sa.kind == ShapeKind::Box;
-        const fcl::Transform3d& xb = impl_->objects[size_t(box_first ? a : b)]->getTransform();
-        const fcl::Transform3d& xh = impl_->objects[size_t(box_first ? b : a)]->getTransform();
+    // A box or a convex hull on a half-space: every corner (hull vertex)
+    // below the plane, not only FCL's deepest one.
+    const auto polytope = [](const Shape& s) { return s.kind == ShapeKind::Box || s.kind == ShapeKind::Convex; };
+    if ((polytope(sa) && sb.kind == ShapeKind::HalfSpace) || (sa.kind == ShapeKind::HalfSpace && polytope(sb))) {
+        const bool solid_first = sa.kind != ShapeKind::HalfSpace;
+        const Shape& solid = solid_first ? sa : sb;
+        const fcl::Transform3d& xb = impl_->objects[size_t(solid_first ? a : b)]->getTransform();
+        const fcl::Transform3d& xh = impl_->objects[size_t(solid_first ? b : a)]->getTransform();
         const Eigen::Vector3d n = xh.linear().col(2);
         const double offset = n.dot(xh.translation());
-        const Eigen::Vector3d half = 0.5 * (box_first ? sa : sb).size;
-        for (int k = 0; k < 8; ++k) {
-            const Eigen::Vector3d local((k & 1 ? 1 : -1) * half.x(), (k & 2 ? 1 : -1) * half.y(), (k & 4 ? 1 : -1) * half.z());
+        const Eigen::Vector3d half = 0.5 * solid.size;
+        const int count = solid.kind == ShapeKind::Box ? 8 : int(solid.hull->vertices.size());
+        for (int k = 0; k < count; ++k) {
+            const Eigen::Vector3d local =
+                solid.kind == ShapeKind::Box
+                    ? Eigen::Vector3d((k & 1 ? 1 : -1) * half.x(), (k & 2 ? 1 : -1) * half.y(), (k & 4 ? 1 : -1) * half.z())
+                    : solid.hull->vertices[size_t(k)];
             const Eigen::Vector3d corner = xb * local;
             const double distance = n.dot(corner) - offset;
             if (distance >= 0) continue;
-            // From a into b: into the plane's solid when the box is a, out of it otherwise.
-            out.push_back({a, b, corner, box_first ? Eigen::Vector3d(-n) : n, -distance, k});
+            // From a into b: into the plane's solid when the polytope is a, out of it otherwise.
+            out.push_back({a, b, corner, solid_first ? Eigen::Vector3d(-n) : n, -distance, k});
         }
         return;
     }

@@ -35,6 +35,9 @@ struct Shape {
     std::shared_ptr<const ConvexHull> hull;
     // Filtering: a pair collides only if (a.group & b.mask) and (b.group & a.mask).
     unsigned group = 1, mask = ~0u;
+    // Which contact material it is made of: a pair of shapes takes the
+    // settings of its pair of materials (contact_step.h, MaterialPair).
+    int material = 0;
 };
 
 }  // namespace mbx::sim::contact

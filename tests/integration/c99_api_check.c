@@ -42,6 +42,14 @@ typedef char check_joint_dynamics_grows[(offsetof(mbx_joint_dynamics_desc, offse
 typedef char check_joint_dynamics_last[(offsetof(mbx_joint_dynamics_desc, asymmetric) >
                                         offsetof(mbx_joint_dynamics_desc, stribeck_velocity)) ? 1 : -1];
 
+/* ABI 9: the contact structs keep struct_size first; their entries follow
+ * the calibration ones in the table. */
+typedef char check_abi_9[(MBX_ABI_VERSION >= 9u) ? 1 : -1];
+typedef char check_collision_shape_first[(offsetof(mbx_collision_shape_desc, struct_size) == 0) ? 1 : -1];
+typedef char check_contact_material_first[(offsetof(mbx_contact_material_desc, struct_size) == 0) ? 1 : -1];
+typedef char check_api_grows_9[(offsetof(mbx_api, mechanism_collision_shape_count) >
+                                offsetof(mbx_api, calibration_get_warning)) ? 1 : -1];
+
 /* A one-motor library, as a C host might hold it in memory. */
 static const char *const k_library =
     "<object_library version=\"1\"><object_folder name=\"Motors\">"

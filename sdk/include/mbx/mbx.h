@@ -1003,6 +1003,74 @@ MBX_API mbx_status mbx_calibration_get_parameter(const mbx_calibration *calibrat
 MBX_API const char *mbx_calibration_get_warning(const mbx_calibration *calibration, uint32_t index);
 
 /* ------------------------------------------------------------------------ */
+/* Contact (ABI 9): collision shapes on bodies and contact materials, what    */
+/* the description file's <collision> and <contact> hold (docs/contact.md).  */
+/* The simulator (mbx_sim_*) runs with contact when the attached description */
+/* has shapes.                                                               */
+/* ------------------------------------------------------------------------ */
+typedef enum mbx_collision_kind {
+    MBX_COLLISION_SPHERE = 0,   /* radius */
+    MBX_COLLISION_BOX = 1,      /* size: full side lengths */
+    MBX_COLLISION_CYLINDER = 2, /* radius, length along the shape's z */
+    MBX_COLLISION_CAPSULE = 3,  /* radius, length of the axis between the caps' centres */
+    MBX_COLLISION_PLANE = 4,    /* the half-space z <= 0 of the shape's frame; world or ground only */
+    MBX_COLLISION_HULL = 5      /* convex hull of the part's mesh (a body's id: one per part; "*": every moving body's parts) */
+} mbx_collision_kind;
+
+typedef struct mbx_collision_shape_desc {
+    uint32_t struct_size;
+    const char *body_id;  /* a rigid body's or CAD part's id, "world", or "*" (hull only) */
+    const char *name;     /* NULL or "": made from the part and kind */
+    int32_t kind;         /* mbx_collision_kind */
+    double radius, length;
+    double size[3];
+    double position[3];   /* m, in the part's frame (the world's for "world") */
+    double rpy[3];        /* rad: R = Rz(rpy[2]) Ry(rpy[1]) Rx(rpy[0]) */
+    const char *material; /* NULL or "": "default" */
+    uint32_t group, mask; /* a pair collides if each one's group meets the other's mask; both 0: 1 and all bits */
+} mbx_collision_shape_desc;
+
+typedef enum mbx_contact_normal_law {
+    MBX_CONTACT_HUNT_CROSSLEY = 0, /* k d^n (1 + damping d'), damping in s/m */
+    MBX_CONTACT_SPRING_DAMPER = 1, /* k d^n + damping d', damping in N s/m */
+    MBX_CONTACT_SPRING = 2         /* k d^n */
+} mbx_contact_normal_law;
+
+typedef enum mbx_contact_friction_law {
+    MBX_CONTACT_FRICTION_SPRING = 0,     /* anchored tangential spring: holds below mu_static N without creep */
+    MBX_CONTACT_FRICTION_REGULARISED = 1 /* mu_kinetic N tanh(|v|/smoothing_speed) */
+} mbx_contact_friction_law;
+
+typedef struct mbx_contact_material_desc {
+    uint32_t struct_size;
+    const char *material_a, *material_b; /* both NULL or "": the default for every pair not given */
+    int32_t normal_law;                  /* mbx_contact_normal_law */
+    double stiffness;                    /* N/m^exponent, > 0 */
+    double exponent;                     /* 0: 1.5 for Hunt-Crossley, 1 otherwise */
+    double damping;                      /* unless use_restitution */
+    int32_t use_restitution;             /* 1: damping solved for this restitution at impact_speed */
+    double restitution, impact_speed;    /* [0, 1]; m/s (0: 1 m/s) */
+    double mu_static, mu_kinetic;
+    int32_t friction_law;                /* mbx_contact_friction_law */
+    double friction_stiffness;           /* N/m, > 0 for the friction spring */
+    double friction_damping;             /* N s/m */
+    double stick_speed;                  /* m/s; 0: 1e-3 */
+    double smoothing_speed;              /* m/s, regularised law; 0: 1e-3 */
+} mbx_contact_material_desc;
+
+/* Adds a collision shape (checked for form here, against the mechanism by
+ * mbx_mechanism_set_mechatronics: unknown ids fail there, named). */
+MBX_API mbx_status mbx_mechatronics_add_collision_shape(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                        const mbx_collision_shape_desc *shape);
+/* Sets the contact between two materials (or the default), replacing an
+ * earlier entry for the same pair. MBX_ERROR_INVALID_INPUT for bad values. */
+MBX_API mbx_status mbx_mechatronics_set_contact_material(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                         const mbx_contact_material_desc *material);
+/* Collision shapes the attached description gives the mechanism (a hull
+ * request counts once per part it wraps). */
+MBX_API uint32_t mbx_mechanism_collision_shape_count(const mbx_mechanism *mechanism);
+
+/* ------------------------------------------------------------------------ */
 /* Plugin entry: one exported function returns the whole API as a table, so a */
 /* host can dlopen() the plugin and dlsym() a single name.                    */
 /* ------------------------------------------------------------------------ */
@@ -1082,6 +1150,9 @@ typedef struct mbx_api {
     mbx_status (*calibration_get_parameter)(const mbx_calibration *, uint32_t, uint32_t, mbx_calibration_parameter *);
     const char *(*calibration_get_warning)(const mbx_calibration *, uint32_t);
     /* --- version 9 --- */
+    mbx_status (*mechatronics_add_collision_shape)(mbx_context *, mbx_mechatronics *, const mbx_collision_shape_desc *);
+    mbx_status (*mechatronics_set_contact_material)(mbx_context *, mbx_mechatronics *, const mbx_contact_material_desc *);
+    uint32_t (*mechanism_collision_shape_count)(const mbx_mechanism *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

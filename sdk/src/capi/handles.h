@@ -52,6 +52,9 @@ struct mbx_mechanism {
     // from the CAD inertia kept here (taken when the first is applied).
     std::vector<mbx::ResolvedBodyMass> body_masses;
     std::unique_ptr<mbx::CadInertia> cad_inertia;
+    // Collision shapes and contact materials of the attached description,
+    // resolved to body frames (hulls wait for the simulator to load meshes).
+    mbx::ResolvedContact contact;
 
     // Meshes of rigid body `body`, asked from the host once, then cached.
     // `m` is passed because during translation `model` is not set yet.

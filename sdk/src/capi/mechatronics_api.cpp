@@ -236,6 +236,7 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
             mechanism->drives.clear();
             mechanism->joint_dynamics.clear();
             mechanism->body_masses.clear();
+            mechanism->contact = {};
             if (mechanism->cad_inertia) apply_body_masses(*mechanism->model, *mechanism->cad_inertia, {});
             return;
         }
@@ -264,13 +265,93 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
             const Subject body{MBX_SUBJECT_BODY, first.object, first.object};
             fail_with(errors, "body corrections do not fit the mechanism", &body);
         }
+        ResolvedContact contact = resolve_contact(m->spec.contact, *mechanism->model, errors);
+        if (!errors.empty()) {
+            const LibraryError& first = errors.front();
+            const Subject body{MBX_SUBJECT_BODY, first.object, first.object};
+            fail_with(errors, "collision shapes or contact materials do not fit the mechanism", &body);
+        }
         mechanism->drives = std::move(drives);
         mechanism->joint_dynamics = std::move(dynamics);
+        mechanism->contact = std::move(contact);
         if (!masses.empty() && !mechanism->cad_inertia)
             mechanism->cad_inertia = std::make_unique<CadInertia>(cad_inertia(*mechanism->model));
         if (mechanism->cad_inertia) apply_body_masses(*mechanism->model, *mechanism->cad_inertia, masses);
         mechanism->body_masses = std::move(masses);
     });
+}
+
+MBX_API mbx_status mbx_mechatronics_add_collision_shape(mbx_context* context, mbx_mechatronics* m,
+                                                        const mbx_collision_shape_desc* desc) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !desc) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or shape is NULL");
+    if (desc->struct_size < sizeof(mbx_collision_shape_desc))
+        return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mbx_collision_shape_desc.struct_size is too small");
+    return guarded(context, [&] {
+        CollisionSpec s;
+        s.body = text_or_empty(desc->body_id);
+        s.name = text_or_empty(desc->name);
+        const std::string who = s.name.empty() ? s.body : s.name;
+        auto bad = [&](const std::string& what) {
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::body(s.body, s.name), "collision shape '" + who + "': " + what);
+        };
+        if (s.body.empty()) bad("body_id is required (a rigid body's or CAD part's id, \"world\" or \"*\")");
+        const int kind = raw_enum(desc->kind);
+        if (!valid_enum(kind, MBX_COLLISION_HULL)) bad("unknown kind " + std::to_string(kind));
+        s.kind = CollisionKind(kind);
+        s.radius = desc->radius, s.length = desc->length;
+        for (int k = 0; k < 3; ++k) s.size[k] = desc->size[k], s.position[k] = desc->position[k], s.rpy[k] = desc->rpy[k];
+        if (desc->material && desc->material[0]) s.material = desc->material;
+        if (desc->group != 0 || desc->mask != 0) s.group = desc->group, s.mask = desc->mask;
+        s.file = "";
+        for (const std::string& problem : collision_problems(s)) bad(problem);
+        m->spec.contact.shapes.push_back(std::move(s));
+    });
+}
+
+MBX_API mbx_status mbx_mechatronics_set_contact_material(mbx_context* context, mbx_mechatronics* m,
+                                                         const mbx_contact_material_desc* desc) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !desc) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or material is NULL");
+    if (desc->struct_size < sizeof(mbx_contact_material_desc))
+        return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mbx_contact_material_desc.struct_size is too small");
+    return guarded(context, [&] {
+        ContactMaterialSpec c;
+        c.a = text_or_empty(desc->material_a);
+        c.b = text_or_empty(desc->material_b);
+        const std::string who = c.a.empty() && c.b.empty() ? "default contact" : "contact " + c.a + "/" + c.b;
+        auto bad = [&](const std::string& what) {
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(who), who + ": " + what);
+        };
+        if (c.a.empty() != c.b.empty()) bad("give both materials, or neither for the default");
+        const int law = raw_enum(desc->normal_law), friction = raw_enum(desc->friction_law);
+        if (!valid_enum(law, MBX_CONTACT_SPRING)) bad("unknown normal_law " + std::to_string(law));
+        if (!valid_enum(friction, MBX_CONTACT_FRICTION_REGULARISED)) bad("unknown friction_law " + std::to_string(friction));
+        c.normal = ContactNormalLaw(law);
+        c.stiffness = desc->stiffness;
+        c.exponent = desc->exponent != 0 ? desc->exponent : c.normal == ContactNormalLaw::HuntCrossley ? 1.5 : 1;
+        c.damping = desc->damping;
+        c.use_restitution = desc->use_restitution != 0;
+        c.restitution = desc->restitution;
+        c.impact_speed = desc->impact_speed != 0 ? desc->impact_speed : 1;
+        if (c.normal == ContactNormalLaw::Spring && (c.damping != 0 || c.use_restitution)) bad("the spring law has no damping");
+        c.mu_static = desc->mu_static, c.mu_kinetic = desc->mu_kinetic;
+        c.friction = ContactFrictionLaw(friction);
+        c.friction_stiffness = desc->friction_stiffness, c.friction_damping = desc->friction_damping;
+        c.stick_speed = desc->stick_speed != 0 ? desc->stick_speed : 1e-3;
+        c.smoothing_speed = desc->smoothing_speed != 0 ? desc->smoothing_speed : 1e-3;
+        for (const std::string& problem : contact_material_problems(c)) bad(problem);
+        for (ContactMaterialSpec& existing : m->spec.contact.materials)
+            if ((existing.a == c.a && existing.b == c.b) || (existing.a == c.b && existing.b == c.a)) {
+                existing = c;
+                return;
+            }
+        m->spec.contact.materials.push_back(std::move(c));
+    });
+}
+
+MBX_API uint32_t mbx_mechanism_collision_shape_count(const mbx_mechanism* mechanism) {
+    return mechanism ? uint32_t(mechanism->contact.shapes.size()) : 0;
 }
 
 MBX_API uint32_t mbx_mechanism_drive_count(const mbx_mechanism* mechanism) {

@@ -71,6 +71,9 @@ const mbx_api kApi = {
     mbx_calibration_get_cause,
     mbx_calibration_get_parameter,
     mbx_calibration_get_warning,
+    mbx_mechatronics_add_collision_shape,
+    mbx_mechatronics_set_contact_material,
+    mbx_mechanism_collision_shape_count,
 };
 
 }  // namespace

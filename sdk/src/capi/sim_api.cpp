@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "capi/contact_build.h"
 #include "capi/guard.h"
 #include "capi/sim_handles.h"
 #include "sim/build_model.h"
@@ -88,6 +89,7 @@ MBX_API mbx_status mbx_sim_model_create(mbx_context* context, const mbx_mechanis
             handle->integrator.tolerance = o.tolerance;
         }
         handle->model = build_model(*mechanism->model, build);
+        build_contact(*mechanism, *handle);
         *out = handle.release();
     });
 }

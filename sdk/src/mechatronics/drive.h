@@ -12,6 +12,7 @@
 
 #include "mechatronics/body_mass.h"
 #include "mechatronics/drive_quantities.h"
+#include "mechatronics/contact_description.h"
 #include "mechatronics/joint_dynamics.h"
 #include "mechatronics/joint_ref.h"
 #include "mechatronics/motion_profile.h"
@@ -89,6 +90,7 @@ struct MechatronicSpec {
     std::vector<DriveSpec> drives;
     std::vector<JointDynamicsSpec> joint_dynamics;
     std::vector<BodyMassSpec> body_masses;  // <body> corrections, e.g. written by mbx calibrate
+    ContactSpec contact;                    // <collision> shapes and <contact> materials
 };
 
 // The joint-level linear servo a drive amounts to, in continuous time and

@@ -76,6 +76,7 @@ public:
             else if (name == "drive") drive(n);
             else if (name == "joint") joint(n);
             else if (name == "body") body(n);
+            else if (name == "collision" || name == "contact") read_contact_element(n, lines_, file_, spec_.contact, errors_);
             else error(n, "", "unknown element <" + name + "> (library, drive, joint, body)");
         }
     }
