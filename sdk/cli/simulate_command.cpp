@@ -32,6 +32,9 @@ const std::string kSimulateUsage = std::string(
     "  --tolerance <rel>  accurate mode relative tolerance (default 1e-8)\n"
     "  --output-step <s>  trajectory sample interval, a whole number of steps (default 0.01)\n"
     "\n"
+    "The description file (--drives) may give collision shapes and contact materials (<collision>, <contact>;\n"
+    "docs/contact.md): the run then has contact, in every integrator.\n"
+    "\n"
     "trajectory.csv holds time, then per joint <joint>.q and <joint>.qd (a spherical joint .qw .qx .qy .qz and\n"
     ".wx .wy .wz; a floating body .x .y .z .qw .qx .qy .qz .vx .vy .vz .wx .wy .wz), then per drive .target,\n"
     ".u, .current and .effort. A run that fails writes nothing and says why (exit code 1).\n";
@@ -208,6 +211,8 @@ int run_simulate(const std::vector<std::string>& args) {
     std::printf("%s: %u coordinates, %u loop closures, %u drives; %llu steps, %llu evaluations, largest loop gap %.3g m\n",
                 in.input.c_str(), info.nv, info.loop_closure_count, info.drive_count, (unsigned long long)stats.steps,
                 (unsigned long long)stats.evaluations, stats.max_closure_residual);
+    if (const uint32_t shapes = mbx_mechanism_collision_shape_count(c.mech))
+        std::printf("contact: %u collision shapes\n", shapes);
     std::printf("trajectory: %s/trajectory.csv\nsummary: %s/simulation.json\n", out_dir.c_str(), out_dir.c_str());
     return 0;
 }
