@@ -5,12 +5,17 @@
 
 namespace mbx_files {
 
+namespace {
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+}  // namespace
+
+// By hand: find_first_not_of(" \t\r\n\f\v") searches the set once per
+// character, and trim runs on every value of a file.
 std::string_view trim(std::string_view text) {
-    const char* ws = " \t\r\n\f\v";
-    const size_t first = text.find_first_not_of(ws);
-    if (first == std::string_view::npos) return {};
-    const size_t last = text.find_last_not_of(ws);
-    return text.substr(first, last - first + 1);
+    size_t first = 0, end = text.size();
+    while (first < end && is_space(text[first])) ++first;
+    while (end > first && is_space(text[end - 1])) --end;
+    return text.substr(first, end - first);
 }
 
 std::optional<double> parse_number(std::string_view text) {

@@ -1,5 +1,7 @@
 #include "pmxml_assembly.h"
 
+#include <algorithm>
+
 namespace mbx_files {
 
 mbx_pose to_pose(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& position) {
@@ -33,6 +35,8 @@ mbx_memory::Assembly to_assembly(const PmxmlModel& model) {
         body.pose = to_pose(cs1.rotation, cs1.position);
         a.bodies.push_back(std::move(body));
     }
+    a.frames.reserve(size_t(std::count_if(model.frames.begin(), model.frames.end(),
+                                          [](const PmxmlFrame& f) { return f.to_host; })));
     for (const PmxmlFrame& f : model.frames) {
         if (!f.to_host) continue;
         mbx_memory::Frame frame;

@@ -1,12 +1,15 @@
 #include "pmxml_reader.h"
 
+#include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <unordered_map>
-#include <unordered_set>
+#include <memory>
+#include <new>
+#include <optional>
 
 #include <pugixml.hpp>
 
@@ -23,20 +26,34 @@ constexpr size_t kMaxSubsystemDepth = 64;
 // The SDK refuses rotations further than this from orthonormal; refusing them
 // here already lets the message carry a line number.
 constexpr double kRotationLimit = 0.05;
+// Bodies with more frames than this check their frame names with a set
+// rather than by comparing each with all before it.
+constexpr size_t kFewFrames = 16;
 
-std::string unquote(std::string_view text) {
+// A view into the parsed document, which outlives every use of it here;
+// only what the model keeps is copied.
+std::string_view unquote(std::string_view text) {
     text = trim(text);
     if (!text.empty() && text.front() == '"') text.remove_prefix(1);
     if (!text.empty() && text.back() == '"') text.remove_suffix(1);
-    return std::string(trim(text));
+    return trim(text);
 }
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
+std::string lower(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return out;
 }
 
-std::string q(const std::string& s) { return "'" + s + "'"; }
+// lower(text) == lowered, without building the lowered copy.
+bool equals_lowered(std::string_view text, std::string_view lowered) {
+    if (text.size() != lowered.size()) return false;
+    for (size_t i = 0; i < text.size(); ++i)
+        if (char(std::tolower(static_cast<unsigned char>(text[i]))) != lowered[i]) return false;
+    return true;
+}
+
+std::string q(std::string_view s) { return "'" + std::string(s) + "'"; }
 
 std::string join(const std::vector<std::string>& parts, const std::string& first) {
     std::string out = first;
@@ -44,28 +61,141 @@ std::string join(const std::vector<std::string>& parts, const std::string& first
     return out;
 }
 
-struct PendingJoint {
-    pugi::xml_node node;
-    std::vector<std::string> path;
+// The first child of each name in `names`, found in one pass. A <Frame> has a
+// dozen children and pugi's child(name) walks them from the first each time,
+// which made these lookups a large share of reading. Matches what child(name)
+// would return: the first node with that name.
+template <size_t N>
+std::array<pugi::xml_node, N> children_named(const pugi::xml_node& parent, const char* const (&names)[N]) {
+    std::array<pugi::xml_node, N> found{};
+    for (pugi::xml_node c = parent.first_child(); c; c = c.next_sibling()) {
+        const char* name = c.name();
+        for (size_t k = 0; k < N; ++k)
+            if (!found[k] && name[0] == names[k][0] && std::strcmp(name, names[k]) == 0) {
+                found[k] = c;
+                break;
+            }
+    }
+    return found;
+}
+
+// Names the element a message is about ("frame 'CS2' of body 'LINK_1'").
+// Built only when a message is: reading a large file composed this text for
+// every element, and almost none of them has anything wrong.
+class Who {
+public:
+    Who(const char* kind, std::string_view name, const Who* owner = nullptr)
+        : kind_(kind), name_(name), owner_(owner) {}
+    std::string str() const {
+        std::string s = std::string(kind_) + " " + q(name_);
+        if (owner_) s += " of " + owner_->str();
+        return s;
+    }
+
+private:
+    const char* kind_;
+    std::string_view name_;
+    const Who* owner_;
 };
 
-struct RefDefinition {
-    int frame;
-    int line;
+std::string operator+(const Who& who, const char* text) { return who.str() + text; }
+
+struct PendingJoint {
+    pugi::xml_node node;
+    size_t path;  // index into Reader::paths_
 };
+
+// String -> int by open addressing in one array. A 100k-part file holds a
+// quarter of a million frame refs and as many body and joint ids;
+// std::unordered_map's node per entry and its rehashing cost more than
+// parsing the elements they come from.
+class StringTable {
+public:
+    // The value already held for `key`, or -1 after storing `value` (>= 0) for it.
+    int insert(std::string_view key, int value) {
+        if (2 * (used_ + 1) > slots_.size()) grow();
+        const uint32_t h = hash(key);
+        Slot& s = slots_[probe(key, h)];
+        if (s.value >= 0) return s.value;
+        s.key = key;
+        s.hash = h;
+        s.value = value;
+        ++used_;
+        return -1;
+    }
+    // The value held for `key`, -1 if none.
+    int find(std::string_view key) const {
+        if (slots_.empty()) return -1;
+        return slots_[probe(key, hash(key))].value;
+    }
+
+private:
+    struct Slot {
+        std::string key;
+        uint32_t hash = 0;
+        int value = -1;  // -1: empty
+    };
+
+    static uint32_t hash(std::string_view key) { return uint32_t(std::hash<std::string_view>()(key)); }
+
+    // The slot holding `key`, else the empty slot where it belongs.
+    size_t probe(std::string_view key, uint32_t h) const {
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = h & mask;; i = (i + 1) & mask) {
+            const Slot& s = slots_[i];
+            if (s.value < 0 || (s.hash == h && s.key == key)) return i;
+        }
+    }
+
+    void grow() {
+        std::vector<Slot> old(std::max<size_t>(256, 2 * slots_.size()));
+        old.swap(slots_);
+        const size_t mask = slots_.size() - 1;
+        for (Slot& s : old)
+            if (s.value >= 0) {
+                size_t i = s.hash & mask;
+                while (slots_[i].value >= 0) i = (i + 1) & mask;
+                slots_[i] = std::move(s);
+            }
+    }
+
+    std::vector<Slot> slots_;  // a power of two in size, at most half full
+    size_t used_ = 0;
+};
+
+// `id`, or the first of id~2, id~3, ... not in `used`; records it there.
+std::string unique(StringTable& used, const std::string& id) {
+    if (used.insert(id, 0) < 0) return id;
+    for (int k = 2;; ++k) {
+        std::string candidate = id + "~" + std::to_string(k);
+        if (used.insert(candidate, 0) < 0) return candidate;
+    }
+}
+
+// The file's text and the terminator the parser reads after it.
+using TextBuffer = std::unique_ptr<char[]>;
+
+TextBuffer allocate_buffer(size_t size) {
+    TextBuffer p(new char[size + 1]);
+    p[size] = '\0';
+    return p;
+}
 
 class Reader {
 public:
-    Reader(std::string_view text, std::string file) : text_(text), lines_(text) { model_.file = std::move(file); }
+    // `text` holds `size` bytes of the file, from allocate_buffer; `lines`
+    // indexes them.
+    Reader(TextBuffer text, size_t size, LineIndex lines, std::string file)
+        : text_(std::move(text)), size_(size), lines_(std::move(lines)) {
+        model_.file = std::move(file);
+    }
 
     PmxmlModel run() {
-        pugi::xml_document doc;
-        const pugi::xml_parse_result parsed =
-            doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_auto);
+        const pugi::xml_parse_result parsed = parse();
         if (!parsed)
             throw FileError(model_.file, lines_.line_of(parsed.offset),
                             std::string("malformed XML: ") + parsed.description());
-        const pugi::xml_node root = doc.document_element();
+        const pugi::xml_node root = doc_.document_element();
         const std::string root_name = root.name();
         if (root_name == "SimMechanicsImportXML" || root_name == "SimscapeMultibodyImportXML")
             fail(root, "<" + root_name +
@@ -88,12 +218,34 @@ public:
         model_.name = text_of(container, "name");
         if (model_.name.empty()) model_.name = text_of(root, "name");
 
-        walk(container, {}, 0);
-        for (const PendingJoint& j : pending_joints_) read_joint(j.node, j.path);
+        paths_.emplace_back();
+        walk(container, 0, 0);
+        for (const PendingJoint& j : pending_joints_) read_joint(j.node, paths_[j.path]);
+        assign_frame_ids();
         return std::move(model_);
     }
 
 private:
+    // In place, so the text is held once (as pugixml's own load_file holds
+    // it), not once read and once copied. With its terminator the parser sees
+    // the very bytes a copying load sees, so results and offsets are the same.
+    // UTF-8 text, and Latin-1 text that is plain ASCII, is parsed where it
+    // lies; any other encoding was converted into a copy, leaving the text
+    // as read, and is loaded by copy as before (so are texts under 4 bytes,
+    // whose encoding guess the terminator could change).
+    pugi::xml_parse_result parse() {
+        constexpr unsigned options = pugi::parse_default;
+        if (size_ >= 4) {
+            const pugi::xml_parse_result r =
+                doc_.load_buffer_inplace(text_.get(), size_ + 1, options, pugi::encoding_auto);
+            if (r.encoding == pugi::encoding_utf8) return r;
+            if (r.encoding == pugi::encoding_latin1 &&
+                std::all_of(text_.get(), text_.get() + size_, [](char c) { return (unsigned char)c < 0x80; }))
+                return r;
+        }
+        return doc_.load_buffer(text_.get(), size_, options, pugi::encoding_auto);
+    }
+
     int line(const pugi::xml_node& n) const { return lines_.line_of(n.offset_debug()); }
 
     [[noreturn]] void fail(const pugi::xml_node& n, const std::string& message) const {
@@ -114,34 +266,45 @@ private:
         model_.diagnostics.push_back(std::move(d));
     }
 
+    // Unquoted text of a node, "" for a null node.
+    static std::string_view text(const pugi::xml_node& n) { return unquote(n.child_value()); }
+
     // Unquoted text of child `name`, "" if absent.
-    static std::string text_of(const pugi::xml_node& parent, const char* name) {
-        return unquote(parent.child(name).child_value());
+    static std::string_view text_of(const pugi::xml_node& parent, const char* name) {
+        return text(parent.child(name));
     }
 
-    pugi::xml_node need(const pugi::xml_node& parent, const char* name, const std::string& who) const {
-        const pugi::xml_node n = parent.child(name);
+    // `n`, the child `name` of `parent` if present.
+    pugi::xml_node need(const pugi::xml_node& n, const pugi::xml_node& parent, const char* name,
+                        const Who& who) const {
         if (!n) fail(parent, who + " has no <" + name + ">");
         return n;
     }
 
-    double number(const pugi::xml_node& n, const std::string& who) const {
-        const std::string text = unquote(n.child_value());
-        const std::optional<double> v = parse_number(text);
-        if (!v) fail(n, who + ": <" + n.name() + "> is not a number: " + q(text));
+    double number(const pugi::xml_node& n, const Who& who) const {
+        const std::string_view t = text(n);
+        const std::optional<double> v = parse_number(t);
+        if (!v) fail(n, who + ": <" + n.name() + "> is not a number: " + q(t));
         return *v;
     }
 
-    void numbers(const pugi::xml_node& n, double* out, size_t count, const std::string& who) const {
-        const std::string text = unquote(n.child_value());
-        if (!parse_number_list(text, out, count))
+    void numbers(const pugi::xml_node& n, double* out, size_t count, const Who& who) const {
+        const std::string_view t = text(n);
+        if (!parse_number_list(t, out, count))
             fail(n, who + ": <" + n.name() + "> needs " + std::to_string(count) + " comma-separated numbers, got " +
-                        q(text));
+                        q(t));
     }
 
-    double unit(const pugi::xml_node& n, Quantity quantity, const std::string& who) const {
+    double unit(const pugi::xml_node& n, Quantity quantity, const Who& who) {
+        const std::string_view t = text(n);
+        // A file states the same few units on every element; unit_to_si is
+        // pure, so the last good answer per quantity is reused.
+        UnitMemo& memo = units_[size_t(quantity)];
+        if (memo.valid && memo.text == t) return memo.factor;
         try {
-            return unit_to_si(unquote(n.child_value()), quantity);
+            const double factor = unit_to_si(t, quantity);
+            memo = {true, std::string(t), factor};
+            return factor;
         } catch (const UnitError& e) {
             fail(n, who + ": <" + n.name() + ">: " + e.what());
         }
@@ -149,73 +312,71 @@ private:
 
     // The unit of a value that may omit it when the value is zero (massless
     // helpers written by hand); otherwise the unit is as critical as the value.
-    double unit_or_si(const pugi::xml_node& parent, const char* name, bool value_is_zero, Quantity quantity,
-                      std::string& unit_text, const std::string& who) const {
-        const pugi::xml_node n = parent.child(name);
-        if (!n || unquote(n.child_value()).empty()) {
+    // `n` is the child `name` of `parent`, or null.
+    double unit_or_si(const pugi::xml_node& n, const pugi::xml_node& parent, const char* name, bool value_is_zero,
+                      Quantity quantity, std::string& unit_text, const Who& who) {
+        if (!n || text(n).empty()) {
             if (!value_is_zero) fail(n ? n : parent, who + " has no <" + name + ">");
             unit_text = "";
             return 1.0;
         }
-        unit_text = unquote(n.child_value());
+        unit_text = text(n);
         return unit(n, quantity, who);
     }
 
-    std::string unique(std::unordered_set<std::string>& used, const std::string& id) {
-        if (used.insert(id).second) return id;
-        for (int k = 2;; ++k) {
-            std::string candidate = id + "~" + std::to_string(k);
-            if (used.insert(candidate).second) return candidate;
-        }
-    }
-
-    void walk(const pugi::xml_node& node, const std::vector<std::string>& path, size_t depth) {
-        for (pugi::xml_node b : node.child("bodies").children("Body")) read_body(b, path);
+    // `path` indexes paths_, the enclosing Subsystem names.
+    void walk(const pugi::xml_node& node, size_t path, size_t depth) {
+        for (pugi::xml_node b : node.child("bodies").children("Body")) read_body(b, paths_[path]);
         for (pugi::xml_node j : node.child("joints").children("SimpleJoint")) pending_joints_.push_back({j, path});
-        for (pugi::xml_node g : node.child("grounds").children("Ground")) read_ground(g, path);
+        for (pugi::xml_node g : node.child("grounds").children("Ground")) read_ground(g, paths_[path]);
         for (pugi::xml_node s : node.child("subsystems").children("Subsystem")) {
             if (depth + 1 > kMaxSubsystemDepth)
                 fail(s, "subsystems nested deeper than " + std::to_string(kMaxSubsystemDepth));
-            std::string name = text_of(s, "name");
+            std::string name(text_of(s, "name"));
             if (name.empty()) name = text_of(s, "nodeID");
             if (name.empty()) name = "Subsystem@" + std::to_string(line(s));
-            const std::string status = text_of(s, "status");
+            const std::string_view status = text_of(s, "status");
             if (!status.empty())
                 warn(s, "pmxml_subsystem_status", MBX_SUBJECT_MODEL, name, name,
-                     "the exporter reports on subsystem " + q(name) + ": " + status);
-            std::vector<std::string> inner = path;
+                     "the exporter reports on subsystem " + q(name) + ": " + std::string(status));
+            std::vector<std::string> inner = paths_[path];
             inner.push_back(name);
-            walk(s, inner, depth + 1);
+            paths_.push_back(std::move(inner));
+            walk(s, paths_.size() - 1, depth + 1);
         }
     }
 
-    int read_frame(const pugi::xml_node& f, int body, const std::string& body_id, const std::string& body_who,
-                   int position_in_body) {
+    int read_frame(const pugi::xml_node& f, int body, const Who& body_who, int position_in_body) {
+        static constexpr const char* kNames[] = {"name",           "displayName",   "nodeID",
+                                                 "position",       "positionUnits", "orientation",
+                                                 "positionOrigin", "positionReferenceFrame",
+                                                 "orientationReferenceFrame",       "orientationType"};
+        const auto c = children_named(f, kNames);
         PmxmlFrame fr;
         fr.line = line(f);
         fr.body = body;
-        fr.name = text_of(f, "name");
+        fr.name = text(c[0]);
         if (fr.name.empty()) fr.name = "frame" + std::to_string(position_in_body + 1);
-        const std::string who = "frame " + q(fr.name) + " of " + body_who;
-        fr.display_name = text_of(f, "displayName");
-        fr.node_id = text_of(f, "nodeID");
+        const Who who("frame", fr.name, &body_who);
+        fr.display_name = text(c[1]);
+        fr.node_id = text(c[2]);
 
         double p[3], o[9];
-        numbers(need(f, "position", who), p, 3, who);
-        const pugi::xml_node units = need(f, "positionUnits", who);
-        fr.length_unit = unquote(units.child_value());
+        numbers(need(c[3], f, "position", who), p, 3, who);
+        const pugi::xml_node units = need(c[4], f, "positionUnits", who);
+        fr.length_unit = text(units);
         fr.length_to_m = unit(units, Quantity::length, who);
-        numbers(need(f, "orientation", who), o, 9, who);
-        for (const char* field : {"positionOrigin", "positionReferenceFrame", "orientationReferenceFrame"}) {
-            const pugi::xml_node n = f.child(field);
-            const std::string value = unquote(n.child_value());
-            if (n && lower(value) != "world")
-                fail(n, who + ": <" + field + "> is " + q(value) +
+        numbers(need(c[5], f, "orientation", who), o, 9, who);
+        for (size_t k = 6; k < 9; ++k) {
+            const pugi::xml_node n = c[k];
+            const std::string_view value = text(n);
+            if (n && !equals_lowered(value, "world"))
+                fail(n, who + ": <" + kNames[k] + "> is " + q(value) +
                             "; only WORLD is supported (every pose must be absolute)");
         }
-        if (const pugi::xml_node n = f.child("orientationType")) {
-            const std::string value = unquote(n.child_value());
-            if (lower(value) != "3x3 transform")
+        if (const pugi::xml_node n = c[9]) {
+            const std::string_view value = text(n);
+            if (!equals_lowered(value, "3x3 transform"))
                 fail(n, who + ": <orientationType> is " + q(value) + "; only '3x3 Transform' is supported");
         }
         fr.position = Eigen::Vector3d(p[0], p[1], p[2]);
@@ -225,29 +386,67 @@ private:
         const double error =
             (fr.rotation.transpose() * fr.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
         if (error > kRotationLimit || !(fr.rotation.determinant() > 0))
-            fail(f.child("orientation"),
-                 who + ": <orientation> is not a rotation matrix (max |R^T R - I| = " + std::to_string(error) +
-                     ", determinant " + std::to_string(fr.rotation.determinant()) + ")");
+            fail(c[5], who + ": <orientation> is not a rotation matrix (max |R^T R - I| = " + std::to_string(error) +
+                           ", determinant " + std::to_string(fr.rotation.determinant()) + ")");
 
         if (const pugi::xml_attribute ref = f.attribute("ref")) {
-            fr.ref = std::string(trim(ref.value()));
+            // The view stays valid: it points into the document, not the frame.
+            const std::string_view key = trim(ref.value());
+            fr.ref = key;
             if (fr.ref.empty()) fail(f, who + " has an empty ref attribute");
-            const auto [it, inserted] = refs_.emplace(fr.ref, RefDefinition{int(model_.frames.size()), fr.line});
-            if (!inserted) {
-                const PmxmlFrame& other = model_.frames[size_t(it->second.frame)];
+            const int defined = refs_.insert(key, int(model_.frames.size()));
+            if (defined >= 0) {
+                const PmxmlFrame& other = model_.frames[size_t(defined)];
                 fail(f, who + " defines frame ref " + fr.ref + ", already defined by frame " + q(other.name) +
-                            " at line " + std::to_string(it->second.line) + "; refs must be unique in the file");
+                            " at line " + std::to_string(other.line) + "; refs must be unique in the file");
             }
         }
         fr.to_host = !fr.ref.empty() || (fr.name != "CG" && fr.name != "CS1");
-        fr.id = unique(frame_ids_, body_id + "::" + fr.name);
-        model_.frames.push_back(std::move(fr));
+        model_.frames.push_back(std::move(fr));  // its id comes in assign_frame_ids
         return int(model_.frames.size() - 1);
     }
 
-    std::string body_id(const pugi::xml_node& n, const std::string& node_id, const std::string& fallback,
-                        const std::string& name) {
-        const std::string wanted = node_id.empty() ? fallback : node_id;
+    // Frame ids are "<body id>::<frame name>", made unique with "~k" in file
+    // order. Body ids are unique, so two frame ids can only meet across bodies
+    // if a frame name holds "::" ("a::b" + "c" against "a" + "b::c");
+    // otherwise only a body's own frames, which are consecutive, can collide
+    // with its next frame, and checking those few spares a set of every frame
+    // id in the file (the reader's largest cost at 100k parts).
+    void assign_frame_ids() {
+        std::vector<PmxmlFrame>& frames = model_.frames;
+        const bool separator_in_names = std::any_of(frames.begin(), frames.end(), [](const PmxmlFrame& f) {
+            return f.name.find("::") != std::string::npos;
+        });
+        if (separator_in_names) {
+            StringTable used;
+            for (PmxmlFrame& f : frames) f.id = unique(used, model_.bodies[size_t(f.body)].id + "::" + f.name);
+            return;
+        }
+        std::vector<std::string> used;  // this body's frame names so far, with their ~k
+        for (size_t first = 0; first < frames.size();) {
+            size_t end = first + 1;
+            while (end < frames.size() && frames[end].body == frames[first].body) ++end;
+            const std::string prefix = model_.bodies[size_t(frames[first].body)].id + "::";
+            if (end - first > kFewFrames) {
+                StringTable many;
+                for (size_t i = first; i < end; ++i) frames[i].id = prefix + unique(many, frames[i].name);
+            } else {
+                used.clear();
+                for (size_t i = first; i < end; ++i) {
+                    const auto taken = [&](const std::string& s) {
+                        return std::find(used.begin(), used.end(), s) != used.end();
+                    };
+                    std::string name = frames[i].name;
+                    for (int k = 2; taken(name); ++k) name = frames[i].name + "~" + std::to_string(k);
+                    used.push_back(name);
+                    frames[i].id = prefix + name;
+                }
+            }
+            first = end;
+        }
+    }
+
+    std::string body_id(const pugi::xml_node& n, const std::string& wanted, const std::string& name) {
         std::string id = unique(body_ids_, wanted);
         if (id != wanted)
             warn(n, "pmxml_duplicate_id", MBX_SUBJECT_BODY, id, name,
@@ -256,38 +455,45 @@ private:
     }
 
     void read_body(const pugi::xml_node& b, const std::vector<std::string>& path) {
+        static constexpr const char* kNames[] = {"name",         "nodeID", "mass",   "massUnits",
+                                                 "volume",       "volumeUnits",      "inertia",
+                                                 "inertiaUnits", "frames", "geometryFileName", "status"};
+        const auto c = children_named(b, kNames);
         PmxmlBody body;
         body.line = line(b);
         body.subsystem_path = path;
-        body.name = text_of(b, "name");
-        body.node_id = text_of(b, "nodeID");
+        body.name = text(c[0]);
+        body.node_id = text(c[1]);
         if (body.name.empty() && body.node_id.empty()) fail(b, "a <Body> has neither a <name> nor a <nodeID>");
         if (body.name.empty()) body.name = body.node_id;
-        body.id = body_id(b, body.node_id, join(path, model_.name) + "/" + body.name, body.name);
+        body.id = body_id(b, body.node_id.empty() ? join(path, model_.name) + "/" + body.name : body.node_id,
+                          body.name);
         if (body.name == "RootPart") body.flags |= MBX_BODY_HELPER;
-        const std::string who = "body " + q(body.name);
+        const Who who("body", body.name);
 
-        body.mass = number(need(b, "mass", who), who);
-        body.mass_to_kg = unit_or_si(b, "massUnits", body.mass == 0, Quantity::mass, body.mass_unit, who);
-        if (const pugi::xml_node v = b.child("volume"); v && !unquote(v.child_value()).empty()) {
+        body.mass = number(need(c[2], b, "mass", who), who);
+        body.mass_to_kg = unit_or_si(c[3], b, "massUnits", body.mass == 0, Quantity::mass, body.mass_unit, who);
+        if (const pugi::xml_node v = c[4]; v && !text(v).empty()) {
             body.volume = number(v, who);
             std::string volume_unit;
-            body.volume_to_m3 = unit_or_si(b, "volumeUnits", body.volume == 0, Quantity::volume, volume_unit, who);
+            body.volume_to_m3 =
+                unit_or_si(c[5], b, "volumeUnits", body.volume == 0, Quantity::volume, volume_unit, who);
         }
         double inertia[9];
-        numbers(need(b, "inertia", who), inertia, 9, who);
+        numbers(need(c[6], b, "inertia", who), inertia, 9, who);
         bool zero = true;
         for (double v : inertia) zero = zero && v == 0;
-        body.inertia_to_kg_m2 = unit_or_si(b, "inertiaUnits", zero, Quantity::inertia, body.inertia_unit, who);
+        body.inertia_to_kg_m2 =
+            unit_or_si(c[7], b, "inertiaUnits", zero, Quantity::inertia, body.inertia_unit, who);
         Eigen::Matrix3d tensor;
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) tensor(i, j) = inertia[3 * i + j];
 
         const int index = int(model_.bodies.size());
-        const pugi::xml_node frames = need(b, "frames", who);
+        const pugi::xml_node frames = need(c[8], b, "frames", who);
         int k = 0;
         for (pugi::xml_node f : frames.children("Frame")) {
-            const int fi = read_frame(f, index, body.id, who, k++);
+            const int fi = read_frame(f, index, who, k++);
             const std::string& name = model_.frames[size_t(fi)].name;
             if (name == "CS1" && body.cs1 < 0) body.cs1 = fi;
             if (name == "CG" && body.cg < 0) body.cg = fi;
@@ -297,14 +503,14 @@ private:
             if (body.mass != 0) fail(frames, who + " has a mass but no CG frame");
             body.cg = body.cs1;
         }
-        if (const pugi::xml_node g = b.child("geometryFileName")) {
-            body.geometry_file = unquote(g.child_value());
+        if (const pugi::xml_node g = c[9]) {
+            body.geometry_file = text(g);
             body.geometry_line = line(g);
         }
-        const std::string status = text_of(b, "status");
+        const std::string_view status = text(c[10]);
         if (!status.empty())
             warn(b, "pmxml_body_status", MBX_SUBJECT_BODY, body.id, body.name,
-                 "the exporter reports on body " + q(body.name) + ": " + status);
+                 "the exporter reports on body " + q(body.name) + ": " + std::string(status));
 
         // The SDK wants the centre of mass in the body (CS1) frame and the
         // tensor in its axes; the file gives the CG in world and the tensor
@@ -312,7 +518,7 @@ private:
         const PmxmlFrame& cs1 = model_.frames[size_t(body.cs1)];
         const PmxmlFrame& cg = model_.frames[size_t(body.cg)];
         const Eigen::Matrix3d r_cs1 = nearest_rotation(cs1.rotation);
-        const Eigen::Matrix3d r_cg = nearest_rotation(cg.rotation);
+        const Eigen::Matrix3d r_cg = body.cg == body.cs1 ? r_cs1 : nearest_rotation(cg.rotation);
         const Eigen::Vector3d cg_position = cg.position * (cg.length_to_m / cs1.length_to_m);
         body.com = r_cs1.transpose() * (cg_position - cs1.position);
         if ((r_cs1 - r_cg).cwiseAbs().maxCoeff() > 1e-12) {
@@ -330,56 +536,61 @@ private:
         body.name = text_of(g, "name");
         body.node_id = text_of(g, "nodeID");
         if (body.name.empty()) body.name = body.node_id.empty() ? "RootGround" : body.node_id;
-        body.id = body_id(g, body.node_id, body.name, body.name);
+        body.id = body_id(g, body.node_id.empty() ? body.name : body.node_id, body.name);
         // The world's datum, not a CAD part: ground and massless helper.
         body.flags = MBX_BODY_GROUND | MBX_BODY_HELPER;
-        const std::string who = "ground " + q(body.name);
+        const Who who("ground", body.name);
         pugi::xml_node f = g.child("frame").child("Frame");
         if (!f) f = g.child("Frame");
         if (!f) fail(g, who + " has no <frame><Frame>");
         const int index = int(model_.bodies.size());
-        body.cs1 = read_frame(f, index, body.id, who, 0);
+        body.cs1 = read_frame(f, index, who, 0);
         model_.bodies.push_back(std::move(body));
     }
 
-    int end_frame(const pugi::xml_node& j, const char* role, const std::string& who) const {
+    int end_frame(const pugi::xml_node& j, const char* role, const Who& who) const {
         const pugi::xml_node side = j.child(role);
         if (!side) fail(j, who + " has no <" + role + ">");
         const pugi::xml_node frame =
             side.find_node([](const pugi::xml_node& n) { return std::strcmp(n.name(), "Frame") == 0; });
         if (!frame) fail(side, who + ": <" + role + "> names no <Frame ref=...>");
-        const std::string ref(trim(frame.attribute("ref").value()));
+        const std::string_view ref = trim(frame.attribute("ref").value());
         if (ref.empty()) fail(frame, who + ": the " + role + " <Frame> has no ref");
-        const auto it = refs_.find(ref);
-        if (it == refs_.end())
-            fail(frame, who + " refers to " + role + " frame ref " + ref + ", which no Frame in the file defines");
-        return it->second.frame;
+        const int defined = refs_.find(ref);
+        if (defined < 0)
+            fail(frame, who + " refers to " + role + " frame ref " + std::string(ref) +
+                            ", which no Frame in the file defines");
+        return defined;
     }
 
-    PmxmlPrimitive read_primitive(const pugi::xml_node& p, const std::string& who) const {
+    PmxmlPrimitive read_primitive(const pugi::xml_node& p, const Who& who) const {
         PmxmlPrimitive prim;
         prim.line = line(p);
-        const std::string name = lower(text_of(p, "name"));
-        if (name == "weld")
+        static constexpr const char* kNames[] = {"name", "referenceFrame", "axis"};
+        const auto c = children_named(p, kNames);
+        const std::string_view raw_name = text(c[0]);
+        if (equals_lowered(raw_name, "weld"))
             prim.type = MBX_PRIMITIVE_WELD;
-        else if (name == "prismatic")
+        else if (equals_lowered(raw_name, "prismatic"))
             prim.type = MBX_PRIMITIVE_PRISMATIC;
-        else if (name == "revolute")
+        else if (equals_lowered(raw_name, "revolute"))
             prim.type = MBX_PRIMITIVE_REVOLUTE;
-        else if (name == "spherical")
+        else if (equals_lowered(raw_name, "spherical"))
             prim.type = MBX_PRIMITIVE_SPHERICAL;
         else
-            fail(p, who + " has unknown primitive " + q(text_of(p, "name")) +
+            fail(p, who + " has unknown primitive " + q(raw_name) +
                         " (known: weld, prismatic, revolute, spherical)");
         // A weld's axis is a dummy and a spherical joint has none.
         if (prim.type != MBX_PRIMITIVE_REVOLUTE && prim.type != MBX_PRIMITIVE_PRISMATIC) return prim;
-        if (const pugi::xml_node reference = p.child("referenceFrame")) {
-            const std::string value = unquote(reference.child_value());
-            if (!value.empty() && lower(value) != "world")
+        const std::string name = lower(raw_name);
+        if (const pugi::xml_node reference = c[1]) {
+            const std::string_view value = text(reference);
+            if (!value.empty() && !equals_lowered(value, "world"))
                 fail(reference, who + ": the " + name + " axis is given in " + q(value) + "; only WORLD is supported");
         }
         double a[3];
-        const pugi::xml_node axis = need(p, "axis", who + "'s " + name + " primitive");
+        const pugi::xml_node axis = c[2];
+        if (!axis) fail(p, who + "'s " + name + " primitive has no <axis>");
         numbers(axis, a, 3, who);
         prim.axis = Eigen::Vector3d(a[0], a[1], a[2]);
         if (!(prim.axis.norm() > 1e-9)) fail(axis, who + " has a zero-length " + name + " axis");
@@ -399,27 +610,51 @@ private:
         if (joint.id != wanted)
             warn(j, "pmxml_duplicate_id", MBX_SUBJECT_CONSTRAINT, joint.id, joint.name,
                  "joint id " + q(wanted) + " is used twice; this joint is " + q(joint.id));
-        const std::string who = "joint " + q(joint.name);
+        const Who who("joint", joint.name);
         joint.base_frame = end_frame(j, "base", who);
         joint.follower_frame = end_frame(j, "follower", who);
-        const pugi::xml_node primitives = need(j, "primitives", who);
+        const pugi::xml_node primitives = j.child("primitives");
+        if (!primitives) fail(j, who + " has no <primitives>");
         for (pugi::xml_node p : primitives.children("Primitive")) joint.primitives.push_back(read_primitive(p, who));
         if (joint.primitives.empty()) fail(primitives, who + " has no <Primitive>");
         joint.status = text_of(j, "status");
         model_.joints.push_back(std::move(joint));
     }
 
-    std::string_view text_;
+    struct UnitMemo {
+        bool valid = false;
+        std::string text;
+        double factor = 1;
+    };
+
+    TextBuffer text_;  // parsed in place: outlives doc_
+    size_t size_;
     LineIndex lines_;
+    pugi::xml_document doc_;
     PmxmlModel model_;
-    std::unordered_map<std::string, RefDefinition> refs_;
-    std::unordered_set<std::string> body_ids_, frame_ids_, joint_ids_;
+    StringTable refs_;  // frame ref -> frame index
+    StringTable body_ids_, joint_ids_;
+    std::vector<std::vector<std::string>> paths_;  // of the subsystems walked, [0] the top level
     std::vector<PendingJoint> pending_joints_;
+    UnitMemo units_[5];  // by Quantity
 };
 
 }  // namespace
 
-PmxmlModel parse_pmxml(std::string_view text, const std::string& file) { return Reader(text, file).run(); }
+// Text is copied and read in chunks of this size, each indexed for lines
+// while it is still in the cache.
+constexpr size_t kChunk = size_t(1) << 20;
+
+PmxmlModel parse_pmxml(std::string_view text, const std::string& file) {
+    TextBuffer buffer = allocate_buffer(text.size());
+    LineIndex lines;
+    for (size_t at = 0; at < text.size(); at += kChunk) {
+        const size_t n = std::min(kChunk, text.size() - at);
+        std::memcpy(buffer.get() + at, text.data() + at, n);
+        lines.append(text.substr(at, n));
+    }
+    return Reader(std::move(buffer), text.size(), std::move(lines), file).run();
+}
 
 PmxmlModel read_pmxml(const std::string& path) {
     std::error_code ec;
@@ -430,10 +665,16 @@ PmxmlModel read_pmxml(const std::string& path) {
     const std::streamoff size = in.tellg();
     in.seekg(0, std::ios::beg);
     if (size < 0) throw FileError(path, 0, "cannot read the file");
-    std::string text(size_t(size), '\0');
-    in.read(text.data(), size);
-    if (in.gcount() != size) throw FileError(path, 0, "cannot read the file");
-    return parse_pmxml(text, path);
+    // Straight into the buffer the parser works in: the text is held once.
+    TextBuffer text = allocate_buffer(size_t(size));
+    LineIndex lines;
+    for (size_t at = 0; at < size_t(size); at += kChunk) {
+        const size_t n = std::min(kChunk, size_t(size) - at);
+        in.read(text.get() + at, std::streamsize(n));
+        if (size_t(in.gcount()) != n) throw FileError(path, 0, "cannot read the file");
+        lines.append(std::string_view(text.get() + at, n));
+    }
+    return Reader(std::move(text), size_t(size), std::move(lines), path).run();
 }
 
 }  // namespace mbx_files

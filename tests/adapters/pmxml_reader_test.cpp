@@ -1,6 +1,7 @@
 // The PMXML reader on the hand-written model: layout conventions, ids,
 // subsystems, units, and every error path with its line number.
 #include <string>
+#include <vector>
 
 #include <doctest/doctest.h>
 
@@ -185,6 +186,55 @@ TEST_CASE("pmxml: a body without nodeID is named by its subsystem path") {
     const PmxmlModel m = parse_pmxml(text, "tiny.xml");
     CHECK(m.bodies[4].id == "TINY/SUB/LINK");
     CHECK(m.frames[size_t(m.bodies[4].cs1)].id == "TINY/SUB/LINK::CS1");
+}
+
+namespace {
+
+// A massless body with the given frames (CS1 first), as the exporter writes it.
+std::string body_with_frames(const std::string& node_id, const std::vector<std::string>& frame_names) {
+    std::string s = "<Body><name>\"P\"</name><nodeID>\"" + node_id + "\"</nodeID><mass>0</mass>"
+                    "<inertia>0,0,0,0,0,0,0,0,0</inertia><frames>\n";
+    for (const std::string& name : frame_names)
+        s += atest::tiny_frame("  ", "", name, "", "0,0,0", "1,0,0,0,1,0,0,0,1");
+    return s + "</frames></Body>\n";
+}
+
+std::string model_of(const std::string& bodies) {
+    return "<PhysicalModelingXMLFile><SimMechanics><name>\"M\"</name><bodies>\n" + bodies +
+           "</bodies></SimMechanics></PhysicalModelingXMLFile>\n";
+}
+
+std::vector<std::string> frame_ids(const PmxmlModel& m) {
+    std::vector<std::string> ids;
+    for (const PmxmlFrame& f : m.frames) ids.push_back(f.id);
+    return ids;
+}
+
+}  // namespace
+
+TEST_CASE("pmxml: frame ids are <body id>::<name>, unique in the file in file order") {
+    using V = std::vector<std::string>;
+    SUBCASE("repeated names in one body take ~2, ~3, skipping names already written that way") {
+        const PmxmlModel m = parse_pmxml(
+            model_of(body_with_frames("A", {"CS1", "CS2", "CS2", "CS2~2", "CS2"}) + body_with_frames("B", {"CS1", "CS2"})),
+            "ids.xml");
+        CHECK(frame_ids(m) == V{"A::CS1", "A::CS2", "A::CS2~2", "A::CS2~2~2", "A::CS2~3", "B::CS1", "B::CS2"});
+    }
+    SUBCASE("a body with many frames (past the few checked one by one)") {
+        V names{"CS1"}, expected{"A::CS1"};
+        for (int k = 0; k < 40; ++k) {
+            names.push_back("CS" + std::to_string(k % 10 + 2));
+            expected.push_back("A::CS" + std::to_string(k % 10 + 2) + (k < 10 ? "" : "~" + std::to_string(k / 10 + 1)));
+        }
+        CHECK(frame_ids(parse_pmxml(model_of(body_with_frames("A", names)), "ids.xml")) == expected);
+    }
+    SUBCASE("'::' in body ids and frame names: ids of different bodies can meet") {
+        // "a::b" + "c" and "a" + "b::c" spell the same id; the later frame gets the suffix.
+        const PmxmlModel m = parse_pmxml(
+            model_of(body_with_frames("a::b", {"CS1", "c"}) + body_with_frames("a", {"CS1", "b::c", "b::CS1"})),
+            "ids.xml");
+        CHECK(frame_ids(m) == V{"a::b::CS1", "a::b::c", "a::CS1", "a::b::c~2", "a::b::CS1~2"});
+    }
 }
 
 TEST_CASE("pmxml errors: malformed XML") {
