@@ -165,23 +165,30 @@ TEST_CASE("contact detection: random box and convex pairs never throw, normals a
     std::mt19937 rng(42);
     std::uniform_real_distribution<double> u(-1, 1);
     std::vector<Contact> c;
-    size_t touching = 0, contacts = 0;
-    for (int i = 0; i < 10000; ++i) {
+    // The issue's 1e5 pairs; violations are counted so that a failure says
+    // how many, not 1e5 lines.
+    constexpr int kPairs = 100000;
+    size_t touching = 0, contacts = 0, bad_normal = 0, negative_depth = 0, flipped = 0, fcl_failures = 0;
+    for (int i = 0; i < kPairs; ++i) {
         b.place(2, rot(3 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng) + 1e-3)), Eigen::Vector3d::Zero());
         b.place(4, rot(3 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng) + 1e-3)),
                 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
         REQUIRE_NOTHROW(scene.detect(b.data, c));
+        fcl_failures += scene.stats().failed_pairs;
         touching += !c.empty();
         for (const Contact& k : c) {
             ++contacts;
-            CHECK(std::abs(k.normal.norm() - 1) < 1e-9);
-            CHECK(k.depth >= -1e-9);
+            bad_normal += !(std::abs(k.normal.norm() - 1) < 1e-9);
+            negative_depth += !(k.depth >= -1e-9);
             // From the box (a) into the octahedron (b): roughly from a's centre towards b's.
             const Eigen::Vector3d between = b.data.x_world[4].p - b.data.x_world[2].p;
-            if (between.norm() > 0.05) CHECK(k.normal.dot(between) > -1e-9);
+            flipped += between.norm() > 0.05 && !(k.normal.dot(between) > -1e-9);
         }
     }
-    MESSAGE(touching << " of 10000 random poses touch, " << contacts << " contacts, " << scene.stats().failed_pairs
-                     << " pairs FCL failed on in the last call");
-    CHECK(touching > 1000);
+    MESSAGE(touching << " of " << kPairs << " random poses touch, " << contacts << " contacts, FCL failed on "
+                     << fcl_failures << " pairs");
+    CHECK(bad_normal == 0);
+    CHECK(negative_depth == 0);
+    CHECK(flipped == 0);
+    CHECK(touching > kPairs / 10);
 }
