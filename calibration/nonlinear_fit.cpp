@@ -472,6 +472,11 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
             problem.SetParameterLowerBound(theta.data(), o + 2, 1e-3 * theta[size_t(o + 2)]);
         }
     }
+    if (P.options.hold_parameters) {
+        problem.SetParameterBlockConstant(theta.data());
+    } else if (!P.options.held.empty()) {
+        problem.SetManifold(theta.data(), new ceres::SubsetManifold(P.parameters, P.options.held));
+    }
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::DENSE_QR;
     so.max_num_iterations = P.options.max_iterations;
@@ -513,6 +518,11 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
     std::vector<double> se(size_t(P.parameters), NAN);
     if (ok) {
         out.final_error = error_percent(r);
+        // Columns scaled to unit norm first: a stiffness, an inertia and a
+        // start's rate differ by eight orders, which would pass for rank loss.
+        Eigen::VectorXd scale = J.colwise().norm().transpose();
+        for (Eigen::Index i = 0; i < nt; ++i) scale[i] = scale[i] > 0 ? 1 / scale[i] : 1;
+        J = J * scale.asDiagonal();
         const Eigen::MatrixXd JtJ = J.transpose() * J;
         Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(JtJ);
         if (cod.rank() == nt) {
@@ -526,7 +536,7 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
             }
             const double dof_ratio = double(nw) > double(np + ns) ? double(nw) / double(nw - np - ns) : 1.0;
             const Eigen::MatrixXd inv = cod.pseudoInverse();
-            const Eigen::MatrixXd cov = dof_ratio * inv * meat * inv;
+            const Eigen::MatrixXd cov = dof_ratio * scale.asDiagonal() * (inv * meat * inv) * scale.asDiagonal();
             for (int i = 0; i < P.parameters; ++i) se[size_t(i)] = std::sqrt(std::max(0.0, cov(i, i)));
         }
     } else {
@@ -540,6 +550,155 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
         out.parameters.push_back(std::move(est));
     }
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
+namespace {
+
+std::string percent(double x) {
+    std::ostringstream s;
+    s.precision(3);
+    s << x << " %";
+    return s.str();
+}
+
+// The validation error of the causes as they are: only the windows' starts fitted.
+double validation_error(const sim::Model& m, const std::vector<const Record*>& validation,
+                        const std::vector<CauseStart>& causes, SimulationFitOptions o) {
+    o.hold_parameters = true;
+    if (causes.empty()) {
+        // Nothing to hold: a viscous friction of zero stands for the model as it is.
+        return NAN;
+    }
+    return SimulationProblem(m, validation, causes, o).solve().final_error;
+}
+
+}  // namespace
+
+Identification add_transmissions(const sim::Model& m, const std::vector<const Record*>& fit,
+                                 const std::vector<const Record*>& validation, const Identification& linear,
+                                 const TransmissionOptions& options) {
+    Identification out = linear;
+    if (!m.closures.empty()) return out;
+    for (const SelectedCause& c : linear.causes)
+        if (!simulation_supports(c.candidate.cause)) return out;
+    for (size_t a = 0; a < linear.causes.size(); ++a) {
+        const SelectedCause& arm = linear.causes[a];
+        // The motor's inertia is an armature to the rigid model, or an
+        // actuator gain where the joint's effort is all inertia (a slide).
+        if (arm.candidate.cause != "armature" && arm.candidate.cause != "actuator_gain") continue;
+        const bool from_armature = arm.candidate.cause == "armature";
+        const Candidate& where = arm.candidate;
+        const std::string& name = m.joints[size_t(where.joint)].name;
+        // The model with the linear causes, and with compliance in place of the armature.
+        std::vector<CauseStart> base, with;
+        for (const SelectedCause& c : out.causes) {
+            std::vector<double> v;
+            for (const Estimate& e : c.parameters) v.push_back(e.value);
+            base.push_back({c.candidate, v});
+            if (!(c.candidate.cause == arm.candidate.cause && c.candidate.joint == where.joint)) with.push_back({c.candidate, v});
+        }
+        Candidate k = where;
+        k.cause = "compliance";
+        k.parameters = {"stiffness", "damping", "motor_inertia"};
+        const double link = m.joints[size_t(where.joint)].reference_inertia;
+        if (!(link > 0)) continue;
+        const double motor = from_armature ? std::max(arm.parameters[0].value, 1e-3 * link) : 0.3 * link;
+        const double reduced = link * motor / (link + motor);
+        // Grid of link resonances (Hz), up to what the records resolve.
+        const double fs = 1.0 / fit.front()->sample_period();
+        double best = INFINITY;
+        std::vector<double> start;
+        SimulationFitOptions probe = options.fit;
+        probe.max_windows = std::max(4, options.fit.max_windows / 3);
+        for (double f = 2; f <= std::min(64.0, 0.05 * fs); f *= 2) {
+            const double stiffness = link * std::pow(2 * M_PI * f, 2);
+            std::vector<CauseStart> trial = with;
+            trial.push_back({k, {stiffness, 0.2 * std::sqrt(stiffness * reduced), motor}});
+            SimulationProblem p(m, fit, trial, probe);
+            Eigen::VectorXd r;
+            if (!p.evaluate(p.start(), r)) continue;
+            const double e = r.squaredNorm();
+            if (e < best) best = e, start = p.start();
+        }
+        std::ostringstream line;
+        line << "compliance on joint '" << name << "': ";
+        if (start.empty()) {
+            line << "no grid start simulates";
+            out.considered.push_back(line.str());
+            continue;
+        }
+        std::vector<CauseStart> trial = with;
+        trial.push_back({k, {start.end()[-3], start.end()[-2], start.end()[-1]}});
+        SimulationFit sf;
+        double before = NAN, after = NAN;
+        try {
+            // The damping held first: from a grid start, a free damper would
+            // rather grow (a stiff link through a heavy damper) than move the
+            // spring to the resonance.
+            SimulationFitOptions first = options.fit;
+            int at = 0;
+            for (const CauseStart& c : trial) at += int(c.values.size());
+            first.held = {at - 2};
+            first.max_iterations = std::min(first.max_iterations, 10);
+            sf = refine_by_simulation(m, fit, trial, first);
+            for (size_t c = 0; c < trial.size(); ++c)
+                for (size_t i = 0; i < trial[c].values.size(); ++i) trial[c].values[i] = sf.parameters[c][i].value;
+            sf = refine_by_simulation(m, fit, trial, options.fit);
+            for (size_t c = 0; c < trial.size(); ++c)
+                for (size_t i = 0; i < trial[c].values.size(); ++i) trial[c].values[i] = sf.parameters[c][i].value;
+
+            before = validation_error(m, validation, base, options.fit);
+            after = validation_error(m, validation, trial, options.fit);
+        } catch (const Error& e) {
+            line << e.what();
+            out.considered.push_back(line.str());
+            continue;
+        }
+        const Estimate& stiffness = sf.parameters.back()[0];
+        const double t = stiffness.value / stiffness.std_error;
+        line << "from " << start.end()[-3] << " (grid), stiffness " << stiffness.value << " +- " << stiffness.std_error
+             << ", simulated validation error " << percent(before) << " with the " << arm.candidate.cause << ", "
+             << percent(after) << " with compliance";
+        out.considered.push_back(line.str());
+        if (!(t > options.min_t_ratio) || !(after < (1 - options.min_relative_gain) * before)) continue;
+
+        // Named: the linear causes the joint fit keeps, then the compliance.
+        std::vector<SelectedCause> kept;
+        for (size_t c = 0; c + 1 < trial.size(); ++c) {
+            const std::vector<Estimate>& est = sf.parameters[c];
+            bool significant = true;
+            for (const Estimate& e : est) significant = significant && std::fabs(e.value) > options.min_t_ratio * e.std_error;
+            const SelectedCause* from = nullptr;
+            for (const SelectedCause& sc : out.causes)
+                if (sc.candidate.cause == trial[c].candidate.cause && sc.candidate.joint == trial[c].candidate.joint &&
+                    sc.candidate.body == trial[c].candidate.body)
+                    from = &sc;
+            if (!significant) {
+                out.warnings.push_back(trial[c].candidate.cause + " dropped: with compliance on joint '" + name +
+                                       "' the simulation fit finds it insignificant");
+                continue;
+            }
+            SelectedCause s = *from;
+            s.parameters = est;
+            kept.push_back(s);
+        }
+        SelectedCause sc;
+        sc.candidate = k;
+        sc.parameters = sf.parameters.back();
+        std::ostringstream ev;
+        ev << "in place of the " << arm.candidate.cause << " on joint '" << name
+           << "' (the motor's inertia the rigid model saw), the "
+           << "elastic transmission cuts the simulated position error on validation from " << percent(before) << " to "
+           << percent(after) << " (link resonance " << std::sqrt(stiffness.value / link) / (2 * M_PI) << " Hz)";
+        sc.evidence = ev.str();
+        sc.fit_error = sf.final_error;
+        sc.validation_error = after;
+        sc.validation_gain = before - after;
+        kept.push_back(sc);
+        out.causes = kept;
+        break;  // one transmission per identification: its joint fit holds every other cause
+    }
     return out;
 }
 

@@ -33,6 +33,10 @@ struct SimulationFitOptions {
     // rates) with the parameters: a rate from a few encoder counts is off by
     // a share of the jerk, and that error would pass into the parameters.
     bool fit_start = true;
+    // Hold the causes' parameters and fit the window starts only (the
+    // validation error of a model as it is).
+    bool hold_parameters = false;
+    std::vector<int> held;  // parameters (stacked indices) held at their start
 };
 
 // A cause and the values its parameters start from (a candidate's
@@ -82,6 +86,26 @@ public:
 private:
     std::unique_ptr<Impl> impl_;
 };
+
+// After the linear selection: a transmission the rigid model lacks. Its
+// signature in the inverse-dynamics fit is an armature (the motor's inertia,
+// which the rigid limit leaves), so on every joint of a tree where one was
+// named, `compliance` (stiffness, damping, motor inertia) replaces it in a
+// simulation fit with the other named causes, from the best of a grid of
+// link resonances. It is named when its stiffness is beyond `min_t_ratio`
+// standard errors and the model with it cuts the simulated position error on
+// the validation records by `min_relative_gain` of itself; causes the joint
+// fit then finds insignificant are dropped. Without it `linear` comes back
+// as it was (a cause the simulation cannot carry, a closed chain: the stage
+// does not run). `considered` gets a line per joint tried.
+struct TransmissionOptions {
+    SimulationFitOptions fit = {0.2, 10, 25};
+    double min_t_ratio = 5;
+    double min_relative_gain = 0.3;
+};
+Identification add_transmissions(const sim::Model& m, const std::vector<const Record*>& fit,
+                                 const std::vector<const Record*>& validation, const Identification& linear,
+                                 const TransmissionOptions& options = {});
 
 // One call: the problem and its solution from the causes' starting values.
 SimulationFit refine_by_simulation(const sim::Model& m, const std::vector<const Record*>& records,

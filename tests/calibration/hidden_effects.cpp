@@ -13,12 +13,20 @@
 // | asymmetric_friction       | generator | -(c tanh(v/vs) + dc |tanh(v/vs)|): c+ = c + dc, c- = c - dc | c; dc/c in [.4,.8] |
 // | stribeck_friction         | generator | -fs tanh(v/vs) exp(-(v/vst)^2), vst 20 % of the RMS speed   | fs                 |
 // | position_dependent_effort | generator | -k q (q from the CAD pose)                                  | k                  |
+// | compliance                | MJCF edit | motor body (armature Jm) + hinge/slide with stiffness, damping | link resonance (Hz) |
+// | backlash                  | MJCF edit | motor body (armature Jm) + hinge/slide limited to +-b/2     | width b            |
+//
+// Compliance and backlash are generated alone: the joint's MJCF body gets a
+// motor-side body in front of it that holds the driven (and measured) joint;
+// the link hangs from it by the elastic or dead-band joint. Jm is 0.2-0.5 of
+// the link's inertia at the CAD pose, the compliance's damping ratio 0.05-0.15.
 //
 // The smooth sign's vs is 1 % of the reference's RMS speed, raised where
 // needed so the explicit force stays stable at the step (h c / (vs J) < 0.25).
 #include "hidden_effects.h"
 
 #include <mujoco/mujoco.h>
+#include <pugixml.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -52,7 +60,7 @@ double HiddenEffect::parameter(const std::string& name) const {
 std::vector<std::string> generated_causes() {
     return {"viscous_friction", "coulomb_friction", "armature",          "mass_error",
             "effort_offset",    "actuator_gain",    "delay",             "sensor_offset",
-            "asymmetric_friction", "stribeck_friction", "position_dependent_effort"};
+            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance", "backlash"};
 }
 
 mbx_memory::Assembly two_link_arm_assembly() {
@@ -288,6 +296,60 @@ void write_text(const fs::path& p, const std::string& text) {
     if (!f) throw std::runtime_error("hidden effects: cannot write " + p.string());
 }
 
+// A transmission between an actuated joint and its link, put into the MJCF.
+struct Transmission {
+    size_t actuated = 0;
+    std::string joint;  // the MJCF joint (keeps its name on the motor side)
+    bool linear = false;
+    double motor_inertia = 0;
+    double stiffness = 0, damping = 0;  // compliance
+    double width = 0;                   // backlash: the dead band's full width
+};
+
+std::string number_text(double x) { return fmt("%.12g", x); }
+
+// The MJCF with each transmission's joint moved onto a new motor-side body
+// (the body's pose, a negligible mass, the motor's inertia as the joint's
+// armature) and the link hung from it by a joint on the same axis: a spring
+// and damper (compliance) or a free dead band between stiff limits (backlash).
+void write_transmissions(const std::string& in, const std::string& out, const std::vector<Transmission>& trs) {
+    pugi::xml_document doc;
+    if (!doc.load_file(in.c_str())) throw std::runtime_error("hidden effects: cannot read " + in);
+    for (const Transmission& tr : trs) {
+        pugi::xml_node joint = doc.find_node([&](pugi::xml_node n) {
+            return std::string(n.name()) == "joint" && tr.joint == n.attribute("name").value();
+        });
+        if (!joint) throw std::runtime_error("hidden effects: no MJCF joint " + tr.joint);
+        pugi::xml_node link = joint.parent();
+        pugi::xml_node motor = link.parent().insert_child_before("body", link);
+        motor.append_attribute("name") = (std::string(link.attribute("name").value()) + "_motor").c_str();
+        for (const char* a : {"pos", "quat"})
+            if (pugi::xml_attribute x = link.attribute(a)) {
+                motor.append_attribute(a) = x.value();
+                link.remove_attribute(x);
+            }
+        pugi::xml_node drive = motor.append_copy(joint);
+        drive.append_attribute("armature") = number_text(tr.motor_inertia).c_str();
+        pugi::xml_node inertial = motor.append_child("inertial");
+        inertial.append_attribute("pos") = "0 0 0";
+        inertial.append_attribute("mass") = "1e-9";
+        inertial.append_attribute("diaginertia") = "1e-12 1e-12 1e-12";
+        motor.append_move(link);
+        joint.attribute("name") = (tr.joint + "_transmission").c_str();
+        if (tr.width > 0) {
+            joint.append_attribute("limited") = "true";
+            joint.append_attribute("range") = (number_text(-tr.width / 2) + " " + number_text(tr.width / 2)).c_str();
+            // Stiff stops: MuJoCo's clamp (two steps) is the stiffest it allows.
+            joint.append_attribute("solreflimit") = number_text(2 * kStep).append(" 1").c_str();
+            joint.append_attribute("solimplimit") = "0.99 0.99 0.001";
+        } else {
+            joint.append_attribute("stiffness") = number_text(tr.stiffness).c_str();
+            joint.append_attribute("damping") = number_text(tr.damping).c_str();
+        }
+    }
+    if (!doc.save_file(out.c_str(), "  ")) throw std::runtime_error("hidden effects: cannot write " + out);
+}
+
 }  // namespace
 
 std::unique_ptr<xtest::Translated> open_mechanism(const std::string& mechanism) {
@@ -323,27 +385,38 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         mbx::write_output_files(dir.string(), mbx::export_files(em, MBX_EXPORT_MJCF));
     }
     const std::string mjcf = (dir / "mjcf" / (mbx::sanitize_identifier(settings.model_name, "model") + ".xml")).string();
-    char error[1024] = "";
-    std::unique_ptr<mjModel, MjDeleter> mm(mj_loadXML(mjcf.c_str(), nullptr, error, sizeof error));
-    if (!mm) throw std::runtime_error("hidden effects: MuJoCo refused " + mjcf + ": " + error);
-    std::unique_ptr<mjData, MjDeleter> md(mj_makeData(mm.get()));
-    mjModel* m = mm.get();
-    mjData* d = md.get();
-    m->opt.timestep = kStep;
-    m->opt.integrator = mjINT_RK4;
-    m->opt.disableflags |= mjDSBL_CONTACT | mjDSBL_LIMIT;
-    for (int k = 0; k < 3; ++k) m->opt.gravity[k] = model.gravity[k];
-    // Loops: the stiffest equalities MuJoCo's clamp allows (2-step time
-    // constant, impedance near 1), so the closure drift stays far below the noise.
-    for (int e = 0; e < m->neq; ++e) {
-        m->eq_solref[mjNREF * e] = 2 * kStep;
-        m->eq_solref[mjNREF * e + 1] = 1;
-        m->eq_solimp[mjNIMP * e] = 0.9999;
-        m->eq_solimp[mjNIMP * e + 1] = 0.9999;
-    }
+    std::unique_ptr<mjModel, MjDeleter> mm;
+    std::unique_ptr<mjData, MjDeleter> md;
+    mjModel* m = nullptr;
+    mjData* d = nullptr;
+    // `limits`: a dead band (backlash) is a joint limit; the export's CAD limits stay off.
+    auto load = [&](const std::string& path, bool limits) {
+        char error[1024] = "";
+        mm.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
+        if (!mm) throw std::runtime_error("hidden effects: MuJoCo refused " + path + ": " + error);
+        md.reset(mj_makeData(mm.get()));
+        m = mm.get();
+        d = md.get();
+        m->opt.timestep = kStep;
+        m->opt.integrator = mjINT_RK4;
+        m->opt.disableflags |= mjDSBL_CONTACT;
+        if (!limits) m->opt.disableflags |= mjDSBL_LIMIT;
+        for (int k = 0; k < 3; ++k) m->opt.gravity[k] = model.gravity[k];
+        // Loops: the stiffest equalities MuJoCo's clamp allows (2-step time
+        // constant, impedance near 1), so the closure drift stays far below the noise.
+        for (int e = 0; e < m->neq; ++e) {
+            m->eq_solref[mjNREF * e] = 2 * kStep;
+            m->eq_solref[mjNREF * e + 1] = 1;
+            m->eq_solimp[mjNIMP * e] = 0.9999;
+            m->eq_solimp[mjNIMP * e + 1] = 0.9999;
+        }
+    };
+    load(mjcf, false);
 
     // Coordinate maps: every 1-dof sim joint to its MuJoCo joint.
     std::vector<int> qpos_of_v(size_t(model.nv), -1), dof_of_v(size_t(model.nv), -1);
+    std::map<int, std::string> mj_joint_of;  // sim joint -> MJCF joint name
+    auto map_coordinates = [&] {
     for (const auto& j : model.joints) {
         if (j.kind == mbx::sim::JointKind::Fixed) continue;
         if (j.nv() != 1) throw std::runtime_error("hidden effects: only hinge and slide joints are supported");
@@ -354,10 +427,13 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
                     if (id < 0) throw std::runtime_error("hidden effects: no MuJoCo joint " + mjj.name);
                     qpos_of_v[size_t(j.v_index)] = m->jnt_qposadr[id];
                     dof_of_v[size_t(j.v_index)] = m->jnt_dofadr[id];
+                    mj_joint_of[int(&j - &model.joints[0])] = mjj.name;
                 }
     }
     for (int k = 0; k < model.nv; ++k)
         if (dof_of_v[size_t(k)] < 0) throw std::runtime_error("hidden effects: a coordinate has no MuJoCo joint");
+    };
+    map_coordinates();
 
     GeneratedCase out;
     out.name = spec.name;
@@ -402,6 +478,7 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
 
     // Effects.
     std::vector<JointEffects> je(na);
+    std::vector<Transmission> transmissions;  // compliance, backlash: edits of the MJCF
     for (size_t i = 0; i < na; ++i) je[i].vs = 0.01 * speed[i];
     for (const EffectSpec& e : spec.effects) {
         if (!(e.high >= e.low)) throw std::runtime_error("hidden effects: empty range for " + e.cause);
@@ -483,10 +560,41 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         } else if (e.cause == "position_dependent_effort") {
             x.stiffness = value;
             h.parameters = {{"stiffness", value}};
+        } else if (e.cause == "compliance") {
+            // `value` is the link's resonance on the spring (Hz) with the motor held.
+            Transmission tr;
+            tr.actuated = i, tr.joint = mj_joint_of.at(j), tr.linear = linear[i];
+            tr.motor_inertia = rng.uniform(0.2, 0.5) * J;
+            tr.stiffness = J * std::pow(kTwoPi * value, 2);
+            const double reduced = J * tr.motor_inertia / (J + tr.motor_inertia);
+            tr.damping = 2 * rng.uniform(0.05, 0.15) * std::sqrt(tr.stiffness * reduced);
+            transmissions.push_back(tr);
+            h.parameters = {{"stiffness", tr.stiffness}, {"damping", tr.damping}, {"motor_inertia", tr.motor_inertia},
+                            {"link_frequency", value}};
+        } else if (e.cause == "backlash") {
+            Transmission tr;
+            tr.actuated = i, tr.joint = mj_joint_of.at(j), tr.linear = linear[i];
+            tr.motor_inertia = rng.uniform(0.2, 0.5) * J;
+            tr.width = value;
+            transmissions.push_back(tr);
+            h.parameters = {{"width", value}, {"motor_inertia", tr.motor_inertia}};
         } else {
             throw std::runtime_error("hidden effects: unknown cause '" + e.cause + "'");
         }
         out.hidden.push_back(h);
+    }
+    if (!transmissions.empty()) {
+        // A new body between the joint and its link: the motor side, driven
+        // and read by the encoder, then the spring or the dead band to the link.
+        if (spec.effects.size() != 1)
+            throw std::runtime_error("hidden effects: compliance and backlash are generated alone");
+        const std::string edited = (dir / "mjcf" / "with_transmission.xml").string();
+        write_transmissions(mjcf, edited, transmissions);
+        bool dead_band = false;
+        for (const Transmission& tr : transmissions) dead_band = dead_band || tr.width > 0;
+        load(edited, dead_band);
+        map_coordinates();
+        for (size_t i = 0; i < na; ++i) act_dof[i] = dof_of_v[size_t(act_v[i])];
     }
     mj_setConst(m, d);
     for (size_t i = 0; i < na; ++i) fit_ref[i].start = val_ref[i].start = je[i].sensor_offset;
@@ -668,6 +776,12 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
         {"emps_axis", {{"viscous_friction", P, 20, 60}, {"coulomb_friction", P, 1, 3}}},
         {"two_link_arm", {{"coulomb_friction", S, 0.3, 1.0}, {"mass_error", "two_link_arm/forearm", 0.2, 0.5}}},
         {"fourbar", {{"viscous_friction", A, 1.2e-4, 3.5e-4}, {"effort_offset", A, 3e-5, 1e-4}}},
+        // Transmissions (MJCF edits), appended so the cases above keep their seeds;
+        // magnitudes are the link's resonance in Hz: within the 25 Hz the
+        // records resolve, above the 3 Hz the reference reaches.
+        {"emps_axis", {{"compliance", P, 8, 20}}},
+        {"two_link_arm", {{"compliance", S, 6, 14}}},
+        {"two_link_arm", {{"compliance", E, 8, 16}}},
     };
     std::vector<CaseSpec> specs;
     std::map<std::string, int> used;

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "calibration/identify.h"
+#include "calibration/nonlinear_fit.h"
 #include "core/finding.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
@@ -64,6 +65,7 @@ Check check_for(const std::string& cause) {
         {"asymmetric_friction", {"coulomb_asymmetry", "coulomb_asymmetry", 1, false, 0.05}},
         {"stribeck_friction", {"stribeck", "stribeck", 1, false, 0.15}},
         {"position_dependent_effort", {"stiffness", "stiffness", 1, false, 0.03}},
+        {"compliance", {"stiffness", "stiffness", 1, false, 0.10}},
     };
     return table.at(cause);
 }
@@ -160,6 +162,8 @@ TEST_CASE("calibration: the hidden-effect suite names each hidden cause, its sub
             const RegressionRows fit = regression_rows(model, fit_records, io);
             const RegressionRows val = regression_rows(model, validation_records, io, &fit.weight);
             id = identify(model, fit, val, io);
+            // The simulation stage: a transmission in place of an armature (calibration/nonlinear_fit.h).
+            id = add_transmissions(model, fit_records, validation_records, id);
         } catch (const std::exception& x) {
             FAIL_CHECK(spec.name << ": " << x.what());
             continue;
