@@ -3,8 +3,13 @@
 // time by mbx (sim/contact: FCL detection, box manifolds, penalty normal
 // force, friction springs, semi-implicit Euler) and by MuJoCo (its default
 // soft contact, Euler). Prints steps per second and the ratio (goal >= 0.5).
+// Then the real ContactNets cube tosses (../shared/data/measured) rolled out
+// as contact calibration does (mbx: Hunt-Crossley, friction spring, Euler at
+// 0.1 ms; MuJoCo: its contact at 0.5 ms, the step its published fit used):
+// steps per second and wall time per toss, mbx's over MuJoCo's; with --fit,
+// the contact calibration of the tests (12 training, 45 validation tosses).
 //
-//   bench_contact [seconds_per_run]   (default 0.5)
+//   bench_contact [seconds_per_run] [--fit]   (default 0.5)
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -18,7 +23,9 @@
 #include <string>
 #include <vector>
 
+#include "calibration/contact_fit.h"
 #include "contact_scenes.h"
+#include "cube_tosses.h"
 #include "memory_host.h"
 #include "assembly/host_reader.h"
 #include "core/progress.h"
@@ -114,15 +121,65 @@ double mujoco_rate(int n, double seconds) {
     return rate;
 }
 
+// Every tenth toss rolled out until `seconds` of wall time have passed, by
+// mbx and by MuJoCo with the published fit's contact: steps per second and
+// seconds per toss of each.
+void cube_tosses(double seconds, bool fit) {
+    using mbx::calibration::PoseRecord;
+    const std::vector<PoseRecord> all = mbx::calibration::read_pose_records(mbx_test::cube_tosses_path());
+    std::vector<PoseRecord> tosses, training, validation;
+    for (const PoseRecord& r : all) {
+        if (r.trial % 10 == 0) tosses.push_back(r);
+        if (r.trial % 50 == 0) training.push_back(r);
+        else if (r.trial % 10 == 0) validation.push_back(r);
+    }
+    const mbx_test::CubeScene cube;
+    mbx::calibration::ContactModel nominal;
+    nominal.settings = mbx_test::nominal_cube_contact();
+    auto mj = mbx_test::mujoco_cube("solref=\"-3294 -45.1\" friction=\"0.218 0.005 0.0001\"");
+    auto rate = [&](auto&& roll, double step) {
+        long rolled = 0;
+        double simulated = 0;
+        const auto t0 = Clock::now();
+        while (since(t0) < seconds)
+            for (const PoseRecord& r : tosses) {
+                roll(r);
+                ++rolled, simulated += r.samples.back().t - r.samples.front().t;
+                if (since(t0) >= seconds) break;
+            }
+        const double wall = since(t0);
+        return std::pair<double, double>(simulated / step / wall, wall / double(rolled));
+    };
+    const auto a = rate([&](const PoseRecord& r) { mbx::calibration::roll_out(cube.scene, nominal, r); }, cube.scene.integrator.step);
+    const auto b = rate([&](const PoseRecord& r) { mbx_test::mujoco_toss_error(mj.get(), r); }, mj->opt.timestep);
+    std::printf("\nContactNets cube tosses (ratio = mbx / MuJoCo)\n");
+    std::printf("%18s | %12s %12s %6s\n", "", "mbx", "MuJoCo", "ratio");
+    std::printf("%18s | %12.0f %12.0f %6.2f\n", "steps/s", a.first, b.first, a.first / b.first);
+    std::printf("%18s | %12.2f %12.2f %6.2f   (mbx at %.1f ms, MuJoCo at %.1f ms steps: wall time ratio %.2f)\n",
+                "ms per toss", a.second * 1e3, b.second * 1e3, b.second / a.second, cube.scene.integrator.step * 1e3,
+                mj->opt.timestep * 1e3, a.second / b.second);
+    if (!fit) return;
+    mbx::calibration::ContactModel start = nominal;
+    start.settings.normal.damping = mbx::sim::contact::damping_for_restitution(start.settings.normal, mbx_test::kCubeMass / 4, 1.0, 0.5);
+    start.settings.friction.mu_static = start.settings.friction.mu_kinetic = 0.5;
+    const auto t0 = Clock::now();
+    const auto result = mbx::calibration::fit_contact(cube.scene, start, training, validation);
+    std::printf("contact calibration (%zu training, %zu validation tosses): %.1f s wall, %d toss rollouts, %zu causes named\n",
+                training.size(), validation.size(), since(t0), result.rollouts, result.steps.size());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    const double seconds = argc > 1 ? std::atof(argv[1]) : 0.5;
+    const double seconds = argc > 1 && argv[1][0] != '-' ? std::atof(argv[1]) : 0.5;
+    bool fit = false;
+    for (int k = 1; k < argc; ++k) fit = fit || std::string(argv[k]) == "--fit";
     std::printf("a pile of boxes on a plane, 1 ms steps (ratio = mbx / MuJoCo; goal >= 0.5)\n");
     std::printf("%6s | %12s %12s %6s\n", "boxes", "mbx steps/s", "MuJoCo", "ratio");
     for (int n : {1, 16, 64}) {
         const double a = mbx_rate(n, seconds), b = mujoco_rate(n, seconds);
         std::printf("%6d | %12.0f %12.0f %6.2f\n", n, a, b, a / b);
     }
+    cube_tosses(seconds, fit);
     return 0;
 }
