@@ -110,8 +110,8 @@ TEST_CASE("density: the range bounds, osmium passes, too light and too heavy are
     // Osmium, 22 590 kg/m^3: 22.59 kg in 1e6 mm^3.
     CHECK(found(*translate(block_assembly(kMillimetreKilogram, 22.59, 1e6, 100)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
               .empty());
-    // Balsa-light 100 kg/m^3 passes; 20 kg/m^3 (below 50) does not.
-    CHECK(found(*translate(block_assembly(kMillimetreKilogram, 0.1, 1e6, 100)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
+    // Balsa, 120 kg/m^3, passes; 20 kg/m^3 (below 50) does not.
+    CHECK(found(*translate(block_assembly(kMillimetreKilogram, 0.12, 1e6, 100)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
               .empty());
     auto light = translate(block_assembly(kMillimetreKilogram, 0.02, 1e6, 100));
     auto f = found(*light, MBX_FINDING_IMPLAUSIBLE_DENSITY);
@@ -158,4 +158,25 @@ TEST_CASE("assembly mass: a stated mass within 2 % of the parts' sum passes, 10 
     // No stated mass: nothing to compare.
     a.mass = 0;
     CHECK(found(*translate(a), MBX_FINDING_ASSEMBLY_MASS_MISMATCH).empty());
+}
+
+TEST_CASE("density: a power of ten typed in the host's units is a placeholder even inside the range") {
+    // LEGS15's SIM_SEA_L_HIP_1: 1.88034 kg in 188034 mm^3, exactly 1e-5 kg/mm^3 = 10 000 kg/m^3.
+    auto m = translate(block_assembly(kMillimetreKilogram, 1.88034, 188034, 57));
+    auto f = found(*m, MBX_FINDING_IMPLAUSIBLE_DENSITY);
+    REQUIRE(f.size() == 1);
+    CHECK(f[0]->severity == MBX_SEVERITY_WARNING);
+    CHECK(f[0]->message.find("density 10000 kg/m^3, exactly 1e-05 in the host's units") != std::string::npos);
+    // Its right-leg twin, 0.9279 kg in the same volume (4934.75 kg/m^3), is a real material.
+    CHECK(found(*translate(block_assembly(kMillimetreKilogram, 0.9279, 188034, 57)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
+              .empty());
+    // Six printed digits: 1.88036 is 1.1e-5 off 1e-5 and still the typed value; 1.8807 (2e-4 off) is not.
+    CHECK(found(*translate(block_assembly(kMillimetreKilogram, 1.88036, 188034, 57)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
+              .size() == 1);
+    CHECK(found(*translate(block_assembly(kMillimetreKilogram, 1.8807, 188034, 57)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
+              .empty());
+    // The same placeholder in metres and kilograms: 10 000 kg/m^3 typed as 1e4.
+    const mbx_units metre_kilogram{1, 1, 0};
+    CHECK(found(*translate(block_assembly(metre_kilogram, 1.88034, 1.88034e-4, 0.057)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
+              .size() == 1);
 }

@@ -11,8 +11,15 @@
 // (30 and up) pass; the lightest packaging foams (EPS, 10-30) are flagged, a
 // cheap false alarm next to a default of 1 kg/m^3 or 1 lbm/ft^3 (16 kg/m^3)
 // going unnoticed. A default of 1 g/cm^3 (water) cannot be told from a real
-// plastic and is not caught; its exact ratio of 1 in the host's units is
-// named when the range is left, not used to flag on its own.
+// plastic by its value.
+//
+// Within the range, a ratio that is an exact power of ten in the host's own
+// units (1e-5 kg/mm^3 = 10 000 kg/m^3) is a placeholder someone typed, not a
+// material's measured density: in the 2015 legs export the eight mirrored
+// left-leg parts carry exactly 1e-5 kg/mm^3, 2 to 8 times the mass of their
+// right-leg twins of equal volume. Six printed digits on mass and volume
+// leave the ratio within 1e-5 of the typed value, while a real density lands
+// that close to a power of ten about once in 10^5 parts.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,11 +38,26 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
 // Mass and volume are both printed with 6 significant digits by CAD exports.
 bool is_unit_density(double host_density) { return std::fabs(host_density - 1.0) <= 1e-4; }
 
+// The power of ten `host_density` was typed as, or 0 if it is not one.
+double typed_power_of_ten(double host_density) {
+    if (!(host_density > 0)) return 0;
+    const double p = std::pow(10.0, std::round(std::log10(host_density)));
+    return std::fabs(host_density / p - 1) <= 1.5e-5 ? p : 0;
+}
+
 void check_densities(Mechanism& m) {
     for (const Part& p : m.assembly.parts) {
         if (p.is_helper() || p.is_ground() || !(p.mass > 0) || !(p.volume > 0)) continue;
         const double density = p.mass / p.volume;
-        if (density >= kDensityMin && density <= kDensityMax) continue;
+        if (density >= kDensityMin && density <= kDensityMax) {
+            if (const double typed = typed_power_of_ten(p.host_density))
+                m.add(MBX_SEVERITY_WARNING, MBX_FINDING_IMPLAUSIBLE_DENSITY, Subject::body(p.id, p.name),
+                      "part '" + p.name + "' has mass " + fmt("%.6g kg in a CAD volume of %.6g m^3", p.mass, p.volume) +
+                          ": density " + fmt("%.6g kg/m^3, exactly %g in the host's units; ", density, typed) +
+                          "a round placeholder rather than a material's density (mirrored or copied parts often "
+                          "lose their material)");
+            continue;
+        }
         std::string why = is_unit_density(p.host_density)
                               ? "the mass equals the volume in the host's own units: the CAD default density of 1, "
                                 "no material assigned"
