@@ -28,6 +28,7 @@ template <class T, int N> double scalar_of(const ceres::Jet<T, N>& x) { return x
 
 std::vector<std::string> parameters_of(const Candidate& c) {
     if (c.cause == "compliance") return {"stiffness", "damping", "motor_inertia"};
+    if (c.cause == "backlash") return {"width", "motor_inertia"};
     return c.parameters;
 }
 
@@ -35,7 +36,8 @@ std::vector<std::string> parameters_of(const Candidate& c) {
 
 bool simulation_supports(const std::string& cause) {
     static const char* known[] = {"viscous_friction", "coulomb_friction",   "effort_offset", "armature",
-                                  "position_dependent_effort", "actuator_gain", "delay", "mass_error", "compliance"};
+                                  "position_dependent_effort", "actuator_gain", "delay", "mass_error", "compliance",
+                                  "backlash"};
     for (const char* k : known)
         if (cause == k) return true;
     return false;
@@ -97,7 +99,14 @@ struct SimulationProblem::Impl {
 // An elastic transmission in a simulated window.
 struct Elastic {
     int dof = -1, q_index = -1, cause = -1;
+    bool dead_band = false;
+    // Backlash: the stops' stiffness and damping (a 1 ms time constant,
+    // critically damped, on the motor and link inertias in series).
+    double stop_stiffness = 0, stop_damping = 0;
 };
+
+// The stops' rate (rad/s): stiff against the motion, followable by RK4 at half a millisecond.
+constexpr double kStopRate = 1000;
 
 template <class S>
 bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S* start, S* out) const {
@@ -138,11 +147,35 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
         } else if (k.cause == "compliance") {
             elastic.push_back({k.dof, k.q_index, int(c)});
             elastic_p.push_back({p[0], p[1], p[2]});
+        } else if (k.cause == "backlash") {
+            Elastic e{k.dof, k.q_index, int(c), true};
+            // From the starting motor inertia: the stops are a fixed part of the law, not fitted.
+            const double link = model.joints[size_t(k.joint)].reference_inertia, motor = causes[c].values[1];
+            const double reduced = motor > 0 && link > 0 ? motor * link / (motor + link) : std::max(motor, link);
+            e.stop_stiffness = reduced * kStopRate * kStopRate;
+            e.stop_damping = 2 * reduced * kStopRate;
+            elastic.push_back(e);
+            elastic_p.push_back({p[0], S(0), p[1]});
         }
     }
     const size_t ne = elastic.size();
     for (size_t e = 0; e < ne; ++e)
         if (!(scalar_of(elastic_p[e][0]) > 0) || !(scalar_of(elastic_p[e][2]) > 0)) return false;
+    // The torque through a transmission at deflection dq and its rate.
+    auto transmitted = [&](size_t e, const S& dq, const S& dqd) -> S {
+        if (!elastic[e].dead_band) return elastic_p[e][0] * dq + elastic_p[e][1] * dqd;
+        const S half = elastic_p[e][0] / S(2);
+        // In the band nothing passes; against a stop, a stiff spring-damper that never pulls.
+        if (dq > half) {
+            const S f = elastic[e].stop_stiffness * (dq - half) + elastic[e].stop_damping * dqd;
+            return f > S(0) ? f : S(0);
+        }
+        if (dq < -half) {
+            const S f = elastic[e].stop_stiffness * (dq + half) + elastic[e].stop_damping * dqd;
+            return f < S(0) ? f : S(0);
+        }
+        return S(0);
+    };
 
     // State: q (nq), v (nv), then each elastic transmission's motor angle and rate.
     const int n = nq + nv + 2 * int(ne);
@@ -169,6 +202,13 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
         const int d = elastic[e].dof, qi = elastic[e].q_index;
         x[nq + nv + 2 * int(e)] = x[qi];
         x[nq + nv + 2 * int(e) + 1] = x[nq + d];
+        if (elastic[e].dead_band) {
+            // Against the stop the load pushes it to (the band's middle at no load).
+            const double load = w.effort0[e] - scalar_of(jm) * w.acc0[e];
+            const double side = load > 0 ? 1 : load < 0 ? -1 : 0;
+            x[qi] = x[qi] - S(side) * (k / S(2) + S(std::fabs(load) / elastic[e].stop_stiffness));
+            continue;
+        }
         x[qi] = x[qi] - (S(w.effort0[e]) - jm * w.acc0[e]) / k;
         x[nq + d] = x[nq + d] - S(w.effort_rate0[e]) / k;
     }
@@ -191,7 +231,7 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
             const S th = s[nq + nv + 2 * int(e)], om = s[nq + nv + 2 * int(e) + 1];
             // The drive's effort goes to the motor; the link feels the spring and its damper.
             const S drive = data.qfrc_total[d] - data.qfrc_passive[d];
-            const S link = elastic_p[e][0] * (th - s[qi]) + elastic_p[e][1] * (om - s[nq + d]);
+            const S link = transmitted(e, th - s[qi], om - s[nq + d]);
             data.qfrc_total[d] = data.qfrc_passive[d] + link;
             ds[nq + nv + 2 * int(e)] = om;
             ds[nq + nv + 2 * int(e) + 1] = (drive - link) / elastic_p[e][2];
@@ -279,8 +319,8 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
         if (c.candidate.cause == "mass_error" ? (c.candidate.body <= 0 || c.candidate.body >= m.body_count())
                                               : (c.candidate.dof < 0 || c.candidate.dof >= m.nv))
             refuse(c.candidate.cause + " has no subject in the model");
-        if (c.candidate.cause == "compliance" && !m.closures.empty())
-            refuse("compliance in a closed loop is not carried by the simulation fit (joint '" +
+        if ((c.candidate.cause == "compliance" || c.candidate.cause == "backlash") && !m.closures.empty())
+            refuse(c.candidate.cause + " in a closed loop is not carried by the simulation fit (joint '" +
                    m.joints[size_t(c.candidate.joint)].name + "')");
         P.offset.push_back(P.parameters);
         P.parameters += int(np);
@@ -331,7 +371,7 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
 
     std::vector<int> elastic_dofs;
     for (const CauseStart& c : causes)
-        if (c.candidate.cause == "compliance") elastic_dofs.push_back(c.candidate.dof);
+        if (c.candidate.cause == "compliance" || c.candidate.cause == "backlash") elastic_dofs.push_back(c.candidate.dof);
     struct Filtered {
         std::vector<double> effort, effort_rate, acc;
     };
@@ -466,6 +506,10 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
             problem.SetParameterLowerBound(theta.data(), o, 0.0);
         if (cause == "actuator_gain") problem.SetParameterUpperBound(theta.data(), o, 0.9);
         if (cause == "mass_error") problem.SetParameterLowerBound(theta.data(), o, -0.9);
+        if (cause == "backlash") {
+            problem.SetParameterLowerBound(theta.data(), o, 0.0);
+            problem.SetParameterLowerBound(theta.data(), o + 1, 1e-3 * theta[size_t(o + 1)]);
+        }
         if (cause == "compliance") {
             problem.SetParameterLowerBound(theta.data(), o, 1e-3 * theta[size_t(o)]);
             problem.SetParameterLowerBound(theta.data(), o + 1, 0.0);

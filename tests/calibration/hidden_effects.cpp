@@ -60,7 +60,7 @@ double HiddenEffect::parameter(const std::string& name) const {
 std::vector<std::string> generated_causes() {
     return {"viscous_friction", "coulomb_friction", "armature",          "mass_error",
             "effort_offset",    "actuator_gain",    "delay",             "sensor_offset",
-            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance", "backlash"};
+            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance"};
 }
 
 mbx_memory::Assembly two_link_arm_assembly() {
