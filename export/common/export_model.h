@@ -25,6 +25,8 @@ struct ExportSettings {
     // damping, friction, spring, limits and armature of tree joints. A joint
     // that also has a drive gets both (armatures and dampings add up).
     std::vector<ResolvedJointDynamics> joint_dynamics;
+    // Collision shapes and contact materials (resolve_contact): MJCF geoms.
+    ResolvedContact contact;
 };
 
 // One output file, path relative to the output directory with '/' separators.

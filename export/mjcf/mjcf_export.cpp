@@ -1,10 +1,13 @@
 #include "mjcf/mjcf_export.h"
 
 #include <pugixml.hpp>
+#include <algorithm>
+#include <set>
 #include <sstream>
 
 #include "common/names.h"
 #include "common/number_text.h"
+#include "mjcf/mjcf_contact.h"
 #include "mjcf/mjcf_defaults.h"
 #include "mjcf/mjcf_layout.h"
 
@@ -30,7 +33,7 @@ void set_pose(pugi::xml_node node, const Pose& pose) {
 
 class Writer {
 public:
-    Writer(ExportModel& model, const MjcfLayout& layout) : model_(model), layout_(layout) {}
+    Writer(ExportModel& model, const MjcfLayout& layout) : model_(model), layout_(layout) { prepare_contact(); }
 
     std::string write(const std::string& name) {
         pugi::xml_document doc;
@@ -43,6 +46,7 @@ public:
         pugi::xml_node world = root.append_child("worldbody");
         world_geometry(world);
         for (int b : layout_.top) body(world, b);
+        contact_pairs(root);
         equalities(root);
         actuators(root);
         std::ostringstream os;
@@ -64,6 +68,11 @@ private:
         set(option, "timestep", number_text(mjcf_defaults::timestep));
         set(option, "integrator", mjcf_defaults::integrator);
         set(option, "gravity", spaced_text(Vec3(0, 0, -mjcf_defaults::gravity)));
+        // With a pyramidal cone a contact's normal softness depends on its
+        // friction and the bodies' inertia (a ball with mu 0.4 rests ten
+        // times shallower than its solref says); the elliptic cone keeps the
+        // solref's rest depth, which the conversion is sized for.
+        if (!model_.settings().contact.empty()) set(option, "cone", "elliptic");
 
         if (layout_.constraint_rows > mjcf_defaults::default_njmax)
             set(root.append_child("size"), "njmax", std::to_string(layout_.constraint_rows));
@@ -104,7 +113,174 @@ private:
     }
 
     // Ground's geometry is fixed to the world at ground's pose.
-    void world_geometry(pugi::xml_node world) { mesh_geom(world, 0, model_.mechanism().bodies[0].pose); }
+    void world_geometry(pugi::xml_node world) {
+        mesh_geom(world, 0, model_.mechanism().bodies[0].pose);
+        collision_geoms(world, 0, model_.mechanism().bodies[0].pose);
+    }
+
+    // --- Contact --------------------------------------------------------
+    // MuJoCo mixes two geoms' solref, solimp and friction; mbx gives them per
+    // pair of materials. When every pair that can meet has the same
+    // parameters they go on the geoms, with contype/conaffinity from the
+    // shapes' group/mask; otherwise each pair of geoms that can collide gets a
+    // <pair> with its materials' parameters (the geoms' contype/conaffinity
+    // are then 0, so MuJoCo does not collide them twice).
+    void prepare_contact() {
+        const ResolvedContact& rc = model_.settings().contact;
+        if (rc.empty()) return;
+        const Mechanism& m = model_.mechanism();
+        const int materials = int(rc.materials.size());
+        auto entry = [&](int a, int b) -> ContactMaterialSpec {
+            for (const ResolvedContact::Pair& p : rc.pairs)
+                if (p.a == std::min(a, b) && p.b == std::max(a, b)) return rc.entries[size_t(p.entry)];
+            return rc.default_entry >= 0 ? rc.entries[size_t(rc.default_entry)] : ContactMaterialSpec{};
+        };
+        // Sized for the lightest moving body made of either material, as the simulator's restitution.
+        auto mass = [&](int a, int b) {
+            double lightest = 0;
+            for (size_t i = 0; i < rc.shapes.size(); ++i) {
+                const int body = rc.shapes[i].body;
+                if (body == 0 || (rc.shape_material[i] != a && rc.shape_material[i] != b)) continue;
+                const double mb = m.bodies[size_t(body)].mass;
+                if (mb > 0 && (lightest == 0 || mb < lightest)) lightest = mb;
+            }
+            return lightest > 0 ? lightest : 1.0;
+        };
+        params_.assign(size_t(materials * materials), {});
+        std::vector<char> used(size_t(materials), 0);
+        for (int mat : rc.shape_material) used[size_t(mat)] = 1;
+        bool first = true;
+        for (int a = 0; a < materials; ++a)
+            for (int b = a; b < materials; ++b) {
+                if (!used[size_t(a)] || !used[size_t(b)]) continue;
+                const MjcfContactParams p = mjcf_contact_params(entry(a, b), mass(a, b), mjcf_defaults::gravity);
+                params_[size_t(a * materials + b)] = params_[size_t(b * materials + a)] = p;
+                if (!first && (p.timeconst != uniform_.timeconst || p.dampratio != uniform_.dampratio ||
+                               p.friction != uniform_.friction))
+                    per_pair_ = true;
+                if (first) uniform_ = p, first = false;
+                if (p.timeconst < 2 * mjcf_defaults::timestep)
+                    model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(rc.materials[size_t(a)]),
+                                "MJCF: the contact of materials " + rc.materials[size_t(a)] + " and " + rc.materials[size_t(b)] +
+                                    " needs a time constant of " + number_text(p.timeconst) +
+                                    " s, below two steps: MuJoCo makes it softer");
+                model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(rc.materials[size_t(a)]),
+                            "MJCF: contact of materials " + rc.materials[size_t(a)] + " and " + rc.materials[size_t(b)] +
+                                ": solref from the same rest depth and damping ratio; " + p.approximation);
+            }
+        for (size_t i = 0; i < rc.shapes.size(); ++i)
+            if (rc.shapes[i].spec.mask != ~0u || rc.shapes[i].spec.group > 0x7fffffffu) {
+                model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(rc.shapes[i].name),
+                            "MJCF: MuJoCo collides two geoms when either one's contype meets the other's conaffinity, "
+                            "mbx when both do; collision masks are written as conaffinity");
+                break;
+            }
+    }
+
+    // The collision geoms of mechanism body `body`, whose MJCF frame is at
+    // `frame` in its parent's (identity for moving bodies; the ground's pose
+    // for the world).
+    void collision_geoms(pugi::xml_node parent, int body, const Pose& frame) {
+        const ResolvedContact& rc = model_.settings().contact;
+        bool hull_written = false;
+        for (size_t i = 0; i < rc.shapes.size(); ++i) {
+            const ResolvedCollision& c = rc.shapes[i];
+            if (c.body != body) continue;
+            if (c.spec.kind == CollisionKind::Hull) {
+                // MuJoCo collides a mesh geom through its convex hull: the body's mesh
+                // asset serves; a body of several parts gets one hull around all of them.
+                if (hull_written) continue;
+                hull_written = true;
+                if (!model_.has_mesh(body)) {
+                    model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(c.name),
+                                "MJCF: no mesh for the hull '" + c.name + "': it is left out");
+                    continue;
+                }
+                if (model_.mechanism().bodies[size_t(body)].parts.size() > 1)
+                    model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(c.name),
+                                "MJCF: body '" + model_.mechanism().bodies[size_t(body)].name +
+                                    "' collides through one hull around all its parts (MuJoCo hulls the body's mesh)");
+            }
+            pugi::xml_node g = parent.append_child("geom");
+            const std::string name = geom_name(c.name);
+            geom_names_.resize(rc.shapes.size());
+            geom_names_[i] = name;
+            set(g, "name", name);
+            const Pose pose = frame * c.pose;
+            const CollisionSpec& s = c.spec;
+            switch (s.kind) {
+            case CollisionKind::Sphere: set(g, "type", "sphere"), set(g, "size", number_text(s.radius)); break;
+            case CollisionKind::Box: set(g, "type", "box"), set(g, "size", spaced_text(Vec3(0.5 * s.size))); break;
+            case CollisionKind::Cylinder:
+            case CollisionKind::Capsule:
+                set(g, "type", s.kind == CollisionKind::Cylinder ? "cylinder" : "capsule");
+                set(g, "size", number_text(s.radius) + " " + number_text(0.5 * s.length));
+                break;
+            case CollisionKind::Plane: set(g, "type", "plane"), set(g, "size", "0 0 1"); break;
+            case CollisionKind::Hull: set(g, "type", "mesh"), set(g, "mesh", model_.mesh_stem(body)); break;
+            }
+            if (s.kind != CollisionKind::Hull) set_pose(g, pose);
+            else set_pose(g, frame);
+            set(g, "group", "3");
+            set(g, "condim", "3");
+            if (per_pair_) {
+                set(g, "contype", "0"), set(g, "conaffinity", "0");
+            } else {
+                set(g, "contype", std::to_string(s.group & 0x7fffffffu));
+                set(g, "conaffinity", std::to_string(s.mask & 0x7fffffffu));
+                contact_params(g, uniform_, false);
+            }
+        }
+    }
+
+    std::string geom_name(const std::string& raw) {
+        std::string name = "collision_" + sanitize_identifier(raw, "shape");
+        for (int k = 2; used_names_.count(name); ++k) name = "collision_" + sanitize_identifier(raw, "shape") + "_" + std::to_string(k);
+        used_names_.insert(name);
+        return name;
+    }
+
+    void contact_params(pugi::xml_node n, const MjcfContactParams& p, bool pair) {
+        const std::string mu = number_text(p.friction);
+        set(n, "friction", pair ? mu + " " + mu + " 0.005 0.0001 0.0001" : mu + " 0.005 0.0001");
+        set(n, "solref", number_text(p.timeconst) + " " + number_text(p.dampratio));
+        const std::string d = number_text(p.impedance);
+        set(n, "solimp", d + " " + d + " 0.001");
+    }
+
+    // Per-pair parameters: every two geoms mbx would collide (different
+    // bodies not joined by a tree joint, group and mask passing both ways).
+    void contact_pairs(pugi::xml_node root) {
+        const ResolvedContact& rc = model_.settings().contact;
+        if (!per_pair_ || rc.empty()) return;
+        const Mechanism& m = model_.mechanism();
+        auto joined = [&](int a, int b) {
+            for (const Joint& j : m.joints)
+                if (!j.cut && ((j.parent == a && j.child == b) || (j.parent == b && j.child == a))) return true;
+            return false;
+        };
+        const int materials = int(rc.materials.size());
+        pugi::xml_node list;
+        geom_names_.resize(rc.shapes.size());
+        for (size_t i = 0; i < rc.shapes.size(); ++i)
+            for (size_t k = i + 1; k < rc.shapes.size(); ++k) {
+                const ResolvedCollision &a = rc.shapes[i], &b = rc.shapes[k];
+                if (geom_names_[i].empty() || geom_names_[k].empty() || a.body == b.body || joined(a.body, b.body)) continue;
+                if (!((a.spec.group & b.spec.mask) && (b.spec.group & a.spec.mask))) continue;
+                if (!list) list = root.append_child("contact");
+                pugi::xml_node pair = list.append_child("pair");
+                set(pair, "geom1", geom_names_[i]);
+                set(pair, "geom2", geom_names_[k]);
+                set(pair, "condim", "3");
+                contact_params(pair, params_[size_t(rc.shape_material[i] * materials + rc.shape_material[k])], true);
+            }
+    }
+
+    std::vector<MjcfContactParams> params_;  // by material pair (a * count + b)
+    MjcfContactParams uniform_;
+    bool per_pair_ = false;
+    std::vector<std::string> geom_names_;    // per contact shape ("" when not written)
+    std::set<std::string> used_names_;
 
     void body(pugi::xml_node parent, int index) {
         const MjcfBody& b = layout_.bodies[size_t(index)];
@@ -121,6 +297,7 @@ private:
             number_text(i(0, 0)) + " " + number_text(i(1, 1)) + " " + number_text(i(2, 2)) + " " +
                 number_text(i(0, 1)) + " " + number_text(i(0, 2)) + " " + number_text(i(1, 2)));
         mesh_geom(node, b.body, Pose{});
+        collision_geoms(node, b.body, Pose{});
         for (int c : b.children) body(node, c);
     }
 

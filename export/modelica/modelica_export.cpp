@@ -46,6 +46,15 @@ void export_modelica(ExportModel& model, OutputFiles& out) {
     const std::string package = modelica_package_name(settings.model_name);
     const std::string dir = "modelica/" + package + "/";
 
+    // The Modelica Standard Library has no contact: the shapes stay out, named.
+    if (!settings.contact.empty()) {
+        std::string names;
+        for (const ResolvedCollision& c : settings.contact.shapes) names += (names.empty() ? "" : ", ") + c.name;
+        model.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(settings.model_name),
+                   "Modelica: the Modelica Standard Library has no contact; the collision shapes and contact materials "
+                   "are left out (" + names + ")");
+    }
+
     std::vector<JointFlanges> flanges;
     std::string mechanics = write_mechanics(model, package, &flanges);
     // The drives and joint dynamics, when there are any, as a model of their

@@ -41,6 +41,7 @@ MBX_API mbx_status mbx_mechanism_export(mbx_context* context, mbx_mechanism* mec
             throw Error(MBX_ERROR_INVALID_ARGUMENT, {}, "unknown export format bits " + std::to_string(formats));
         settings.drives = mechanism->drives;
         settings.joint_dynamics = mechanism->joint_dynamics;
+        settings.contact = mechanism->contact;
         Mechanism& m = *mechanism->model;
         BodyShapes shapes;
         if (mechanism->has_host)
