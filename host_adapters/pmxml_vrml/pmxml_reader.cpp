@@ -65,13 +65,19 @@ std::string join(const std::vector<std::string>& parts, const std::string& first
 // dozen children and pugi's child(name) walks them from the first each time,
 // which made these lookups a large share of reading. Matches what child(name)
 // would return: the first node with that name.
+// Names are compared here rather than by strcmp: they are short, and the
+// call cost more than the comparison.
 template <size_t N>
 std::array<pugi::xml_node, N> children_named(const pugi::xml_node& parent, const char* const (&names)[N]) {
+    const auto same = [](const char* a, const char* b) {
+        while (*a && *a == *b) ++a, ++b;
+        return *a == *b;
+    };
     std::array<pugi::xml_node, N> found{};
     for (pugi::xml_node c = parent.first_child(); c; c = c.next_sibling()) {
         const char* name = c.name();
         for (size_t k = 0; k < N; ++k)
-            if (!found[k] && name[0] == names[k][0] && std::strcmp(name, names[k]) == 0) {
+            if (!found[k] && same(name, names[k])) {
                 found[k] = c;
                 break;
             }
@@ -548,8 +554,8 @@ private:
         model_.bodies.push_back(std::move(body));
     }
 
-    int end_frame(const pugi::xml_node& j, const char* role, const Who& who) const {
-        const pugi::xml_node side = j.child(role);
+    // `side` is the child `role` of joint `j`, or null.
+    int end_frame(const pugi::xml_node& j, const pugi::xml_node& side, const char* role, const Who& who) const {
         if (!side) fail(j, who + " has no <" + role + ">");
         const pugi::xml_node frame =
             side.find_node([](const pugi::xml_node& n) { return std::strcmp(n.name(), "Frame") == 0; });
@@ -598,11 +604,13 @@ private:
     }
 
     void read_joint(const pugi::xml_node& j, const std::vector<std::string>& path) {
+        static constexpr const char* kNames[] = {"name", "nodeID", "base", "follower", "primitives", "status"};
+        const auto c = children_named(j, kNames);
         PmxmlJoint joint;
         joint.line = line(j);
         joint.subsystem_path = path;
-        joint.name = text_of(j, "name");
-        joint.node_id = text_of(j, "nodeID");
+        joint.name = text(c[0]);
+        joint.node_id = text(c[1]);
         if (joint.name.empty())
             joint.name = joint.node_id.empty() ? "joint@" + std::to_string(joint.line) : joint.node_id;
         const std::string wanted = joint.node_id.empty() ? joint.name : joint.node_id;
@@ -611,13 +619,13 @@ private:
             warn(j, "pmxml_duplicate_id", MBX_SUBJECT_CONSTRAINT, joint.id, joint.name,
                  "joint id " + q(wanted) + " is used twice; this joint is " + q(joint.id));
         const Who who("joint", joint.name);
-        joint.base_frame = end_frame(j, "base", who);
-        joint.follower_frame = end_frame(j, "follower", who);
-        const pugi::xml_node primitives = j.child("primitives");
+        joint.base_frame = end_frame(j, c[2], "base", who);
+        joint.follower_frame = end_frame(j, c[3], "follower", who);
+        const pugi::xml_node primitives = c[4];
         if (!primitives) fail(j, who + " has no <primitives>");
         for (pugi::xml_node p : primitives.children("Primitive")) joint.primitives.push_back(read_primitive(p, who));
         if (joint.primitives.empty()) fail(primitives, who + " has no <Primitive>");
-        joint.status = text_of(j, "status");
+        joint.status = text(c[5]);
         model_.joints.push_back(std::move(joint));
     }
 
