@@ -249,14 +249,16 @@ private:
     }
 
     // Per-pair parameters: every two geoms mbx would collide (different
-    // bodies not joined by a tree joint, group and mask passing both ways).
+    // bodies not joined by a tree joint unless one is the world, group and
+    // mask passing both ways).
     void contact_pairs(pugi::xml_node root) {
         const ResolvedContact& rc = model_.settings().contact;
         if (!per_pair_ || rc.empty()) return;
         const Mechanism& m = model_.mechanism();
         auto joined = [&](int a, int b) {
             for (const Joint& j : m.joints)
-                if (!j.cut && ((j.parent == a && j.child == b) || (j.parent == b && j.child == a))) return true;
+                if (!j.cut && a != 0 && b != 0 && ((j.parent == a && j.child == b) || (j.parent == b && j.child == a)))
+                    return true;
             return false;
         };
         const int materials = int(rc.materials.size());

@@ -70,8 +70,12 @@ Scene::Scene(const Model& m, std::vector<Shape> shapes) : impl_(std::make_unique
     joined_.assign(size_t(body_count_) * size_t(body_count_), 0);
     for (int b = 1; b < body_count_; ++b) {
         const int p = m.bodies[size_t(b)].parent;
-        // A floating body's free joint ties it to nothing: it collides with the world.
-        if (p < 0 || m.joints[size_t(b - 1)].kind == JointKind::Free) continue;
+        // A floating body's free joint ties it to nothing: it collides with the
+        // world. So does a body jointed to the world: the world holds the
+        // environment (ground, obstacles, end stops) as well as the ground
+        // part, and MuJoCo filters parent and child the same way (a joint's
+        // own seat on the ground is kept apart with groups and masks).
+        if (p <= 0 || m.joints[size_t(b - 1)].kind == JointKind::Free) continue;
         joined_[size_t(b) * size_t(body_count_) + size_t(p)] = joined_[size_t(p) * size_t(body_count_) + size_t(b)] = 1;
     }
     for (size_t i = 0; i < shapes_.size(); ++i) {
