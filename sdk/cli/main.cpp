@@ -17,6 +17,8 @@ const char* kUsage =
     "  calibrate <input> --experiment <file.xml> -o <dir>\n"
     "                               name and fit what the model misses in measured data; writes\n"
     "                               calibration.json, calibration.html and description.xml to <dir>\n"
+    "  view <input> -o <dir>        write view.html to <dir>: the assembly in a browser, offline, playing\n"
+    "                               <dir>/trajectory.csv when a simulation left one there\n"
     "  list                         list the built-in assemblies usable as <input>\n"
     "  library <file.xml>...        check object library files and show derived drive quantities\n"
     "\n"
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
     if (command == "translate") return mbx_cli::run_translate(rest);
     if (command == "simulate") return mbx_cli::run_simulate(rest);
     if (command == "calibrate") return mbx_cli::run_calibrate(rest);
+    if (command == "view") return mbx_cli::run_view(rest);
     if (command == "list") return mbx_cli::run_list(rest);
     if (command == "library") return mbx_cli::run_library(rest);
     std::fprintf(stderr, "mbx: unknown command '%s'\n\n%s", command.c_str(), kUsage);

@@ -1071,6 +1071,25 @@ MBX_API mbx_status mbx_mechatronics_set_contact_material(mbx_context *context, m
 MBX_API uint32_t mbx_mechanism_collision_shape_count(const mbx_mechanism *mechanism);
 
 /* ------------------------------------------------------------------------ */
+/* View (ABI 9): one self-contained HTML page of the assembly (docs/view.md) */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_view_options {
+    uint32_t struct_size;
+    const char *trajectory; /* NULL or "": a still view; else a trajectory.csv that mbx_sim_run /
+                               `mbx simulate` wrote for this mechanism, played in a loop */
+    const char *title;      /* NULL or "": "model" */
+} mbx_view_options;
+
+/* Writes <directory>/view.html (directory created if missing; temporary then
+ * rename): the assembly's glTF scene at its CAD pose with three.js inlined
+ * from Debian's libjs-three, so it opens offline; with a trajectory, every
+ * meshed body posed by forward kinematics at each sample. MBX_ERROR_IO when
+ * libjs-three is missing, MBX_ERROR_INVALID_INPUT (naming file and line) for
+ * a trajectory that does not fit the mechanism, or a model without meshes. */
+MBX_API mbx_status mbx_mechanism_write_view(mbx_context *context, mbx_mechanism *mechanism,
+                                            const mbx_view_options *options, const char *directory);
+
+/* ------------------------------------------------------------------------ */
 /* Plugin entry: one exported function returns the whole API as a table, so a */
 /* host can dlopen() the plugin and dlsym() a single name.                    */
 /* ------------------------------------------------------------------------ */
@@ -1153,6 +1172,7 @@ typedef struct mbx_api {
     mbx_status (*mechatronics_add_collision_shape)(mbx_context *, mbx_mechatronics *, const mbx_collision_shape_desc *);
     mbx_status (*mechatronics_set_contact_material)(mbx_context *, mbx_mechatronics *, const mbx_contact_material_desc *);
     uint32_t (*mechanism_collision_shape_count)(const mbx_mechanism *);
+    mbx_status (*mechanism_write_view)(mbx_context *, mbx_mechanism *, const mbx_view_options *, const char *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

@@ -74,6 +74,7 @@ const mbx_api kApi = {
     mbx_mechatronics_add_collision_shape,
     mbx_mechatronics_set_contact_material,
     mbx_mechanism_collision_shape_count,
+    mbx_mechanism_write_view,
 };
 
 }  // namespace
