@@ -426,6 +426,17 @@ class Mechanism:
         options.stop_time = stop_time
         self._ctx.check(_c.mbx_mechanism_export(self._ctx.handle, self._live(), ctypes.byref(options), _b(directory)))
 
+    def write_view(self, directory, trajectory=None, title: Optional[str] = None) -> str:
+        """Writes ``directory/view.html`` (docs/view.md): the assembly in a
+        browser, offline, playing ``trajectory`` (a trajectory.csv simulated
+        from this mechanism) when given. Returns the page's path."""
+        options = _lib.new(_lib.ViewOptions)
+        options.trajectory = _b(trajectory)
+        options.title = _b(title)
+        self._ctx.check(_c.mbx_mechanism_write_view(self._ctx.handle, self._live(), ctypes.byref(options),
+                                                    _b(directory)))
+        return os.path.join(os.fspath(directory), "view.html")
+
     # -- drives ------------------------------------------------------------
     def attach_drives(self, drives=None, libraries: Sequence = ()) -> None:
         """Attaches the drives and joint dynamics of a description file

@@ -73,6 +73,11 @@ class ExportOptions(ctypes.Structure):
                 ("model_name", ctypes.c_char_p), ("stop_time", ctypes.c_double)]
 
 
+class ViewOptions(ctypes.Structure):
+    """mbx_view_options."""
+    _fields_ = [("struct_size", ctypes.c_uint32), ("trajectory", ctypes.c_char_p), ("title", ctypes.c_char_p)]
+
+
 class DriveInfo(ctypes.Structure):
     """mbx_drive_info."""
     _fields_ = [("struct_size", ctypes.c_uint32), ("name", ctypes.c_char_p), ("joint", ctypes.c_uint32),
@@ -208,6 +213,7 @@ _PROTOTYPES = {
     "mbx_mechanism_get_finding": (_S, [_P, _U, ctypes.POINTER(Finding)]),
     "mbx_mechanism_write_report": (_S, [_P, _P, _C]),
     "mbx_mechanism_export": (_S, [_P, _P, ctypes.POINTER(ExportOptions), _C]),
+    "mbx_mechanism_write_view": (_S, [_P, _P, ctypes.POINTER(ViewOptions), _C]),
     "mbx_mechatronics_create": (_S, [_P, ctypes.POINTER(_P)]),
     "mbx_mechatronics_destroy": (None, [_P]),
     "mbx_mechatronics_load_library": (_S, [_P, _P, _C]),

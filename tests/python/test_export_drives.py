@@ -78,3 +78,18 @@ def test_drives_that_do_not_fit_name_the_constraint():
         assert "no constraint with id '44:-:45'" in e.value.message
         assert e.value.file.endswith("five_axis_arm_drives.xml") and e.value.line > 0
         assert fourbar.drives == []
+
+
+def test_view_page_is_self_contained_and_refuses_a_foreign_trajectory(arm, tmp_path):
+    import mbx
+    page = arm.write_view(tmp_path, title="arm")
+    text = open(page, encoding="utf-8").read()
+    assert "<title>arm</title>" in text and "THREE.GLTFLoader" in text
+    assert "<script src" not in text
+    assert "const MBX_MOTION = null;" in text
+    bad = tmp_path / "trajectory.csv"
+    bad.write_text("time,nothing\n0,1\n")
+    with pytest.raises(mbx.MbxError) as error:
+        arm.write_view(tmp_path / "v", trajectory=bad)
+    assert "trajectory.csv: no column" in str(error.value)
+    assert not (tmp_path / "v" / "view.html").exists()
