@@ -61,11 +61,21 @@ public:
         if (offset < 0) return 0;
         const size_t at = size_t(offset);
         // Readers ask mostly in file order, a few lines past the previous
-        // answer: look there before searching all the lines (in a text
-        // under 4 GiB, where stored starts are plain offsets).
-        if (segment_first_.size() == 1 && hint_ > 0 && starts_[hint_ - 1] <= at)
-            for (size_t i = hint_, stop = std::min(hint_ + 8, starts_.size()); i <= stop; ++i)
-                if (i == starts_.size() || starts_[i] > at) return int(hint_ = i);
+        // answer: gallop forward from there rather than search all the lines
+        // (in a text under 4 GiB, where stored starts are plain offsets).
+        if (segment_first_.size() == 1 && segment_of(at) == 0 && hint_ > 0 && starts_[hint_ - 1] <= at) {
+            const size_t n = starts_.size();
+            size_t lo = hint_, hi = hint_, step = 1;  // starts_[lo - 1] <= at throughout
+            while (hi < n && starts_[hi] <= at) {
+                lo = hi + 1;
+                hi += step;
+                step *= 2;
+            }
+            hi = std::min(hi, n);  // hi == n or starts_[hi] > at
+            const auto it = std::upper_bound(starts_.begin() + std::ptrdiff_t(lo),
+                                             starts_.begin() + std::ptrdiff_t(hi), uint32_t(at));
+            return int(hint_ = size_t(it - starts_.begin()));
+        }
         const size_t segments = segment_first_.size();
         const size_t segment = std::min(segment_of(at), segments - 1);
         // Lines starting in earlier segments all start before `at`.
