@@ -91,6 +91,16 @@ void ContactWorld::step_taken(const Model& m, Data& d) {
     cached_ = true, cached_time_ = d.time, cached_q_ = d.q, cached_v_ = d.v;
 }
 
+ContactWorld::Memory ContactWorld::memory() const {
+    return {anchors_, cached_, cached_time_, cached_q_, cached_v_, cached_tau_};
+}
+
+void ContactWorld::restore(const Memory& m) {
+    anchors_ = m.anchors;
+    cached_ = m.cached, cached_time_ = m.cached_time;
+    cached_q_ = m.cached_q, cached_v_ = m.cached_v, cached_tau_ = m.cached_tau;
+}
+
 void ContactWorld::step(const Model& m, Data& d, const IntegratorSettings& s) {
     AppliedForces* before = d.applied_forces;
     d.applied_forces = this;

@@ -52,6 +52,13 @@ public:
     void apply(const Model& m, Data& d) override;
     void step_taken(const Model& m, Data& d) override;
 
+    // What persists between steps (the friction springs' anchors and the
+    // kept step's forces), so a caller that rolls its Data back (a failed
+    // run) can roll the contact back with it.
+    struct Memory;
+    Memory memory() const;
+    void restore(const Memory& m);
+
     const std::vector<ContactForce>& forces() const { return forces_; }  // at the last evaluation
     const Scene& scene() const { return scene_; }
     const ContactSettings& settings() const { return settings_; }
@@ -75,6 +82,13 @@ private:
     bool cached_ = false;
     double cached_time_ = 0;
     Eigen::VectorXd cached_q_, cached_v_, cached_tau_;
+};
+
+struct ContactWorld::Memory {
+    std::map<Key, FrictionState> anchors;
+    bool cached = false;
+    double cached_time = 0;
+    Eigen::VectorXd cached_q, cached_v, cached_tau;
 };
 
 // Adds the generalised effort of world force f applied at world point p of

@@ -298,3 +298,46 @@ TEST_CASE("contact API: description problems name file, line and the id") {
         CHECK(model == nullptr);
     }
 }
+
+TEST_CASE("contact API: a failed run leaves the contact as it was (the friction springs' anchors roll back with the data)") {
+    // A box at rest is pushed over the plane by 15 N (beyond mu_s m g) in a
+    // run that then fails (its directory cannot be written), dragging its
+    // friction springs' anchors along. The failed run must leave nothing
+    // behind: without the push the box stays where it is, as a fresh data's
+    // does, instead of being pulled towards anchors that no longer exist.
+    const double mass = 2, side = 0.1, k = 1e5;
+    const double c = 2 * std::sqrt(k * mass / 4);
+    Run run = translate(free_part("box", mass, side / 2 - mass * kG / (4 * k), side));
+    Description d;
+    TempDir dir("contact_api");
+    REQUIRE(attach(run, d, dir,
+                   "<mechatronics version=\"1\">\n"
+                   "  <collision body=\"world\" shape=\"plane\"/>\n"
+                   "  <collision body=\"box/part\" shape=\"box\" size=\"0.1 0.1 0.1\"/>\n"
+                   "  <contact normal=\"spring_damper\" stiffness=\"1e5\" damping=\"" + std::to_string(c) +
+                       "\" mu_static=\"0.5\" mu_kinetic=\"0.4\"/>\n"
+                   "</mechatronics>\n") == MBX_OK);
+    mbx_context* ctx = run.context.get();
+    Sim failed, fresh;
+    make_sim(run, failed, MBX_INTEGRATOR_EULER, 1e-4);
+    make_sim(run, fresh, MBX_INTEGRATOR_EULER, 1e-4);
+    // Both settle first, so their anchors are set where the box rests.
+    REQUIRE(failed.a->sim_step(ctx, failed.data, 2000) == MBX_OK);
+    REQUIRE(fresh.a->sim_step(ctx, fresh.data, 2000) == MBX_OK);
+    const double push[6] = {15, 0, 0, 0, 0, 0}, none[6] = {0, 0, 0, 0, 0, 0};  // free joint: force, then torque
+    REQUIRE(failed.a->sim_set_effort(ctx, failed.data, push) == MBX_OK);
+    mbx_sim_run_options o{};
+    o.struct_size = sizeof o;
+    o.stop_time = 0.5;
+    o.output_step = 0.01;
+    std::ofstream(dir.file("blocker")) << "a file, not a directory";
+    CHECK(failed.a->sim_run(ctx, failed.data, &o, (dir.file("blocker") + "/out").c_str()) != MBX_OK);
+    REQUIRE(failed.a->sim_set_effort(ctx, failed.data, none) == MBX_OK);
+    REQUIRE(failed.a->sim_step(ctx, failed.data, 2000) == MBX_OK);
+    REQUIRE(fresh.a->sim_step(ctx, fresh.data, 2000) == MBX_OK);
+    double qa[7], qb[7];
+    REQUIRE(failed.a->sim_get_state(failed.data, nullptr, qa, nullptr) == MBX_OK);
+    REQUIRE(fresh.a->sim_get_state(fresh.data, nullptr, qb, nullptr) == MBX_OK);
+    CHECK(std::abs(qb[0]) < 1e-9);
+    for (int i = 0; i < 7; ++i) CHECK(qa[i] == qb[i]);
+}

@@ -3,6 +3,7 @@
 // that write their files.
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "capi/contact_build.h"
 #include "capi/guard.h"
@@ -375,11 +376,19 @@ MBX_API mbx_status mbx_sim_run(mbx_context* context, mbx_sim_data* data, const m
             void* user = context->progress_user;
             settings.progress = [fn, user](double fraction) { return fn(user, "simulating", fraction) == 0; };
         }
-        // On a copy of the data: a failed run leaves the data as it was.
+        // On a copy of the data: a failed run leaves the data as it was, and
+        // the contact's friction anchors with it.
         Data trial = data->data;
         Trajectory trajectory;
-        const RunSummary summary = run(data->owner->model, trial, settings, trajectory);
-        write_run_files(directory, data->owner->model, trajectory, summary);
+        std::optional<sim::contact::ContactWorld::Memory> contact;
+        if (data->contact) contact = data->contact->memory();
+        try {
+            const RunSummary summary = run(data->owner->model, trial, settings, trajectory);
+            write_run_files(directory, data->owner->model, trajectory, summary);
+        } catch (...) {
+            if (contact) data->contact->restore(*contact);
+            throw;
+        }
         data->data = std::move(trial);
     });
 }
