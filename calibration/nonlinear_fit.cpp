@@ -204,9 +204,9 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
         x[nq + nv + 2 * int(e) + 1] = x[nq + d];
         if (elastic[e].dead_band) {
             // Against the stop the load pushes it to (the band's middle at no load).
-            const double load = w.effort0[e] - scalar_of(jm) * w.acc0[e];
-            const double side = load > 0 ? 1 : load < 0 ? -1 : 0;
-            x[qi] = x[qi] - S(side) * (k / S(2) + S(std::fabs(load) / elastic[e].stop_stiffness));
+            const S load = S(w.effort0[e]) - jm * w.acc0[e];
+            const double side = scalar_of(load) > 0 ? 1 : scalar_of(load) < 0 ? -1 : 0;
+            x[qi] = x[qi] - S(side) * (k / S(2)) - load / elastic[e].stop_stiffness;
             continue;
         }
         x[qi] = x[qi] - (S(w.effort0[e]) - jm * w.acc0[e]) / k;
