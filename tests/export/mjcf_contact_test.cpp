@@ -177,3 +177,56 @@ TEST_CASE("MJCF contact: materials that differ by pair become <pair> elements; M
                           f.message.find("world_plane") != std::string::npos);
     CHECK(named);
 }
+
+TEST_CASE("MJCF contact: a box rests in MuJoCo at mbx's m g / (4 k); a hull, on MuJoCo's three mesh-plane points, deeper") {
+    // mbx's box and hull on a plane touch at every corner below it, each with
+    // the material's k; MuJoCo's four box-plane contacts, with the solref
+    // sized for the body's mass, come to the same depth. Its mesh-plane
+    // collision gives at most three points, so the hull (a mesh geom) rests
+    // deeper there: the export says so in a note.
+    const double mass = 2, side = 0.1, k = 1e5;
+    for (const char* shape : {"box", "hull"}) {
+        CAPTURE(shape);
+        mbx_memory::Assembly a;
+        a.name = "box";
+        const mbx_units si{1, 1, 1};
+        Builder b(a, "box", si, si);
+        const Mat3 I = Mat3::Identity();
+        b.body("ground", "Ground", MBX_BODY_GROUND, 1.0, I, Vec3::Zero(), Vec3::Zero(), box_inertia(1.0, 0.1, 0.1, 0.1));
+        b.body("part", "Part", 0, mass, I, Vec3(0, 0, side / 2 + 0.002), Vec3(0, 0, side / 2 + 0.002),
+               box_inertia(mass, side, side, side));
+        b.mesh("part", box_mesh("part_mesh", Vec3(side, side, side), I, Vec3::Zero()));
+        auto t = xtest::translate(std::move(a));
+        mbx_test::TempDir dir("mjcf_contact");
+        const std::string geometry = std::string(shape) == "box" ? "shape=\"box\" size=\"0.1 0.1 0.1\"" : "shape=\"hull\"";
+        const mbx::ExportSettings settings = with_contact(*t,
+            "<mechatronics version=\"1\">\n"
+            "  <collision body=\"world\" shape=\"plane\"/>\n"
+            "  <collision body=\"box/part\" " + geometry + "/>\n"
+            "  <contact normal=\"spring_damper\" stiffness=\"1e5\" restitution=\"0.3\" mu=\"0.5\"/>\n"
+            "</mechatronics>\n");
+        xtest::MuJoCoRun run = xtest::load_mjcf(*t, dir, settings);
+        const mjModel* mm = run.model.get();
+        mjData* md = run.data.get();
+        const int steps = int(std::lround(2.0 / mm->opt.timestep));
+        for (int i = 0; i < steps; ++i) mj_step(mm, md);
+        const double depth = side / 2 - md->qpos[2];
+        MESSAGE(std::string(shape) << ": MuJoCo rest depth " << depth << " m on " << md->ncon
+                                   << " contacts, mbx's m g / (4k) " << mass * kG / (4 * k));
+        if (std::string(shape) == "box") {
+            CHECK(md->ncon == 4);
+            CHECK(near(depth, mass * kG / (4 * k), 0.02));
+            CHECK(std::abs(md->qpos[4]) + std::abs(md->qpos[5]) < 1e-6);  // level
+        } else {
+            CHECK(mm->geom_type[mj_name2id(mm, mjOBJ_GEOM, "collision_Part_hull")] == mjGEOM_MESH);
+            CHECK(md->ncon == 3);
+            CHECK(depth > mass * kG / (4 * k));
+            CHECK(depth < 2 * mass * kG / (4 * k));
+            mbx::ExportModel model = xtest::export_model(*t, settings);
+            mbx::export_files(model, MBX_EXPORT_MJCF);
+            bool noted = false;
+            for (const mbx::Finding& f : model.notes()) noted = noted || f.message.find("at most three points") != std::string::npos;
+            CHECK(noted);
+        }
+    }
+}
