@@ -7,9 +7,10 @@
 // the scalar, so Ceres' Jets carry exact derivatives through every step.
 // Standard errors come from the Jacobian at the optimum, (J^T J)^-1 s^2.
 //
-// Besides the catalogue's linear causes it carries the ones that need it:
-// `compliance`, an elastic transmission between a motor-side inertia (where
-// the drive acts and the encoder reads) and the link (docs/calibration.md).
+// Besides the catalogue's linear causes it carries the ones that need it,
+// each a motor-side inertia (where the drive acts and the encoder reads) as
+// one more degree of freedom: `compliance`, a spring and damper to the link,
+// and `backlash`, a dead band between stiff stops (docs/calibration.md).
 #pragma once
 #include <Eigen/Dense>
 #include <memory>
