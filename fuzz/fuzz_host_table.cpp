@@ -3,7 +3,8 @@
 // lie, missing or repeated ids, NULL strings, NaN, infinities and huge values
 // in poses, units and inertia, enum values outside their range, failing
 // callbacks with a message that fills its buffer, meshes whose indices point
-// anywhere). The SDK must turn each into a status with a message or a
+// anywhere; host ABI 4's volumes, stated assembly mass and diagnostics
+// appended while shapes are served). The SDK must turn each into a status with a message or a
 // finding, never a crash, leak or hang. Then the consumers of a translated
 // mechanism run on it: queries, shape statistics and the simulator's model.
 #include <fuzzer/FuzzedDataProvider.h>
@@ -121,6 +122,11 @@ struct FuzzHost {
     std::vector<mbx_host_diagnostic> diagnostics;
     std::vector<FuzzShapes> shapes;  // served in turn, one per get_shapes call
     size_t shape_calls = 0;
+    // Host ABI 4: diagnostics appended while serving shapes (a mesh that
+    // only fails when loaded), and the assembly mass the CAD states.
+    std::vector<mbx_host_diagnostic> late_diagnostics;
+    double assembly_mass = 0;
+    bool assembly_mass_fails = false;
     const char* name = nullptr;
     const char* source = nullptr;
 };
@@ -192,11 +198,25 @@ int get_primitive(void* u, size_t c, size_t k, mbx_primitive_desc* out, char* me
 int get_shapes(void* u, const char* body_id, const mbx_shape_sink* sink, char* message, size_t message_size) {
     FuzzHost& h = self(u);
     if (!body_id) std::abort();  // the SDK always names the body
-    if (h.shapes.empty()) return 0;
+    if (h.shape_calls < h.late_diagnostics.size()) {
+        // Appended, never changed: the count grows with the list (a lying
+        // count stays a lie).
+        if (h.diagnostic_count == h.diagnostics.size()) ++h.diagnostic_count;
+        h.diagnostics.push_back(h.late_diagnostics[h.shape_calls]);
+    }
+    if (h.shapes.empty()) {
+        ++h.shape_calls;
+        return 0;
+    }
     const FuzzShapes& s = h.shapes[h.shape_calls++ % h.shapes.size()];
     if (s.fail) return fail_with(s, message, message_size);
     for (const FuzzMesh& m : s.meshes)
         if (sink->add_mesh(sink->sink_data, &m.desc) != 0) return fail_with(Item{false, 5}, message, message_size);
+    return 0;
+}
+int get_assembly_mass(void* u, double* out) {
+    if (self(u).assembly_mass_fails) return 1;
+    *out = self(u).assembly_mass;
     return 0;
 }
 int describe_assembly(void* u, const char** name, const char** source) {
@@ -235,6 +255,7 @@ void generate(FuzzedDataProvider& in, FuzzHost& h) {
             for (double& i : b.desc.inertia) i = fuzz_double(in);
         }
         fuzz_pose(in, b.desc.pose);
+        b.desc.volume = in.ConsumeBool() ? in.ConsumeFloatingPointInRange<double>(0, 10) : fuzz_double(in);
     }
     h.frames.resize(in.ConsumeIntegralInRange<size_t>(0, 12));
     for (FuzzFrame& f : h.frames) {
@@ -276,16 +297,19 @@ void generate(FuzzedDataProvider& in, FuzzHost& h) {
         c.desc.primitive_count = in.ConsumeBool() ? uint32_t(c.primitives.size()) : in.ConsumeIntegral<uint32_t>();
     }
     h.diagnostics.resize(in.ConsumeIntegralInRange<size_t>(0, 4));
-    for (mbx_host_diagnostic& d : h.diagnostics) {
-        d.struct_size = sizeof d;
-        d.severity = static_cast<mbx_severity>(in.ConsumeIntegral<int>() % 5);
-        d.code = fuzz_id(in);
-        d.subject_kind = static_cast<mbx_subject_kind>(in.ConsumeIntegral<int>() % 8);
-        d.subject_id = fuzz_id(in);
-        d.subject_name = fuzz_id(in);
-        d.file = fuzz_id(in);
-        d.line = in.ConsumeIntegral<int32_t>();
-        d.message = fuzz_id(in);
+    h.late_diagnostics.resize(in.ConsumeIntegralInRange<size_t>(0, 2));
+    for (std::vector<mbx_host_diagnostic>* list : {&h.diagnostics, &h.late_diagnostics}) {
+        for (mbx_host_diagnostic& d : *list) {
+            d.struct_size = sizeof d;
+            d.severity = static_cast<mbx_severity>(in.ConsumeIntegral<int>() % 5);
+            d.code = fuzz_id(in);
+            d.subject_kind = static_cast<mbx_subject_kind>(in.ConsumeIntegral<int>() % 8);
+            d.subject_id = fuzz_id(in);
+            d.subject_name = fuzz_id(in);
+            d.file = fuzz_id(in);
+            d.line = in.ConsumeIntegral<int32_t>();
+            d.message = fuzz_id(in);
+        }
     }
     h.shapes.resize(in.ConsumeIntegralInRange<size_t>(0, 3));
     for (FuzzShapes& s : h.shapes) {
@@ -314,6 +338,8 @@ void generate(FuzzedDataProvider& in, FuzzHost& h) {
     h.constraint_count = fuzz_count(in, h.constraints.size());
     h.diagnostic_count = fuzz_count(in, h.diagnostics.size());
     h.fail_counts = in.ConsumeIntegralInRange<int>(0, 63) == 0;
+    h.assembly_mass = in.ConsumeBool() ? in.ConsumeFloatingPointInRange<double>(0, 50) : fuzz_double(in);
+    h.assembly_mass_fails = in.ConsumeIntegralInRange<int>(0, 7) == 0;
     h.name = fuzz_id(in);
     h.source = fuzz_id(in);
 }
@@ -374,9 +400,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
     // or nonsense; the table is a heap block of exactly that size so reading past
     // what the host declared trips AddressSanitizer.
     static const uint32_t kSizes[] = {uint32_t(MBX_HOST_V1_SIZE), uint32_t(offsetof(mbx_host, diagnostic_count)),
-                                      uint32_t(sizeof(mbx_host)), 0, 8};
-    const uint32_t table_size = kSizes[in.ConsumeIntegralInRange<size_t>(0, 4)];
-    const uint32_t abi = in.ConsumeBool() ? in.ConsumeIntegralInRange<uint32_t>(1, 3) : in.ConsumeIntegral<uint32_t>();
+                                      uint32_t(offsetof(mbx_host, get_assembly_mass)), uint32_t(sizeof(mbx_host)), 0, 8};
+    const uint32_t table_size = kSizes[in.ConsumeIntegralInRange<size_t>(0, 5)];
+    const uint32_t abi = in.ConsumeBool() ? in.ConsumeIntegralInRange<uint32_t>(1, 4) : in.ConsumeIntegral<uint32_t>();
     const uint32_t dropped = in.ConsumeIntegral<uint32_t>();  // callbacks left NULL, one bit each
     generate(in, h);
 
@@ -395,6 +421,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* bytes, size_t size) {
     full.describe_assembly = dropped & 1u << 8 ? nullptr : describe_assembly;
     full.diagnostic_count = dropped & 1u << 9 ? nullptr : diagnostic_count;
     full.get_diagnostic = dropped & 1u << 10 ? nullptr : get_diagnostic;
+    full.get_assembly_mass = dropped & 1u << 11 ? nullptr : get_assembly_mass;
     // Most runs keep every callback, so the data itself gets fuzzed.
     if (!(dropped & 1u << 31)) {
         full.body_count = body_count; full.get_body = get_body; full.frame_count = frame_count;
