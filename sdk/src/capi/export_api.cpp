@@ -2,6 +2,7 @@
 // the mechanism's findings.
 #include <cstring>
 
+#include "capi/export_model_of.h"
 #include "capi/guard.h"
 #include "export_files.h"
 
@@ -39,14 +40,8 @@ MBX_API mbx_status mbx_mechanism_export(mbx_context* context, mbx_mechanism* mec
         }
         if (formats & ~uint32_t(MBX_EXPORT_ALL))
             throw Error(MBX_ERROR_INVALID_ARGUMENT, {}, "unknown export format bits " + std::to_string(formats));
-        settings.drives = mechanism->drives;
-        settings.joint_dynamics = mechanism->joint_dynamics;
-        settings.contact = mechanism->contact;
         Mechanism& m = *mechanism->model;
-        BodyShapes shapes;
-        if (mechanism->has_host)
-            shapes = [mechanism, &m](int body) -> const std::vector<Mesh>& { return mechanism->body_shapes(m, body); };
-        ExportModel model(m, shapes, settings);
+        ExportModel model = export_model_of(mechanism, settings);
         write_output_files(directory, export_files(model, formats));
         // Notes join the findings once, however often the model is exported.
         for (const Finding& note : model.notes()) {

@@ -1,5 +1,6 @@
 // mbx_mechanism_write_view: the view page of view/, written like an export
-// (temporary, then rename) with the mechanism's drives and shapes.
+// (temporary, then rename) from the same ExportModel.
+#include "capi/export_model_of.h"
 #include "capi/guard.h"
 #include "export_files.h"
 #include "view/view_page.h"
@@ -24,11 +25,7 @@ MBX_API mbx_status mbx_mechanism_write_view(mbx_context* context, mbx_mechanism*
             if (MBX_FIELD_FITS(options, mbx_view_options, title) && options->title && options->title[0])
                 settings.model_name = options->title;
         }
-        Mechanism& m = *mechanism->model;
-        BodyShapes shapes;
-        if (mechanism->has_host)
-            shapes = [mechanism, &m](int body) -> const std::vector<Mesh>& { return mechanism->body_shapes(m, body); };
-        ExportModel model(m, shapes, settings);
+        ExportModel model = export_model_of(mechanism, settings);
         write_output_files(directory, view_files(model, trajectory));
     });
 }
