@@ -100,7 +100,11 @@ private:
 // as it was (a cause the simulation cannot carry, a closed chain: the stage
 // does not run). `considered` gets a line per joint tried.
 struct TransmissionOptions {
-    SimulationFitOptions fit = {0.2, 10, 25};
+    SimulationFitOptions fit = [] {
+        SimulationFitOptions o;
+        o.max_windows = 10, o.max_iterations = 25;
+        return o;
+    }();
     double min_t_ratio = 5;
     double min_relative_gain = 0.3;
 };

@@ -4,6 +4,3 @@
 # CI's time; -O1 keeps the checks (and Debug's asserts) at a fraction of that.
 add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -O1)
 add_link_options(-fsanitize=address,undefined)
-# Tests that fit models to real data shrink their data sets under the
-# sanitizers: that run checks memory safety, the release run the statistics.
-add_compile_definitions(MBX_SANITIZED=1)

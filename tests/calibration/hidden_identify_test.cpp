@@ -19,6 +19,7 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
+#include "slow_build.h"
 #include "temp_dir.h"
 
 using namespace mbx;
@@ -29,11 +30,7 @@ using mbx_test::HiddenEffect;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || !defined(NDEBUG)
-constexpr bool kSimulationStages = false;
-#else
-constexpr bool kSimulationStages = true;
-#endif
+constexpr bool kSimulationStages = !kSlowBuild;
 
 const sim::Model& model_of(const std::string& mechanism) {
     static std::map<std::string, sim::Model> models;

@@ -16,6 +16,7 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
+#include "slow_build.h"
 #include "temp_dir.h"
 
 using namespace mbx;
@@ -25,14 +26,9 @@ using mbx_test::GeneratedCase;
 
 namespace {
 
-// Jets through the dynamics are slow unoptimised and under sanitizers: there
-// the recovery runs its first case on fewer windows, and the compliance stage
-// and the backlash fit are left out (the Jet test still runs both laws' code).
-#if defined(__SANITIZE_ADDRESS__) || !defined(NDEBUG)
-constexpr bool kSlowBuild = true;
-#else
-constexpr bool kSlowBuild = false;
-#endif
+// In slow builds (slow_build.h) the recovery runs its first case on fewer
+// windows, and the compliance stage and the backlash fit are left out (the Jet
+// test still runs both laws' code).
 
 struct Loaded {
     sim::Model model;
