@@ -55,6 +55,19 @@ void check_dynamics(const JointT<double>& j, const JointDynamics& jd) {
         fail("limits must be finite with lower <= upper");
 }
 
+void check_transmission(const JointT<double>& j, const Transmission& t) {
+    auto fail = [&](const std::string& what) {
+        throw Error(MBX_ERROR_INVALID_INPUT, j.subject(), "joint '" + j.name + "': transmission " + what);
+    };
+    if (j.nv() != 1) fail(std::string("needs a revolute or prismatic joint, not ") + joint_kind_name(j.kind));
+    const std::pair<const char*, double> values[] = {{"motor_inertia", t.motor_inertia}, {"stiffness", t.stiffness},
+                                                     {"damping", t.damping}, {"backlash", t.backlash}};
+    for (const auto& [name, value] : values)
+        if (!std::isfinite(value) || value < 0) fail(std::string(name) + " must be finite and not negative");
+    if (!(t.motor_inertia > 0)) fail("motor_inertia must be positive (the motor side needs an inertia of its own)");
+    if (!(t.backlash > 0) && !(t.stiffness > 0)) fail("needs a positive stiffness, or a backlash (a dead band between stops)");
+}
+
 }  // namespace
 
 Model build_model(const Mechanism& m, const BuildOptions& options) {
@@ -189,6 +202,21 @@ Model build_model(const Mechanism& m, const BuildOptions& options) {
         model.closures.push_back(std::move(lc));
     }
 
+    model.transmission_of_dof.assign(size_t(model.nv), -1);
+    for (const auto& [source, given] : options.transmissions) {
+        const int sj = source >= 0 && size_t(source) < model.joint_of_source.size() ? model.joint_of_source[size_t(source)] : -1;
+        if (sj < 0) {
+            const std::string name = source >= 0 && size_t(source) < m.joints.size() ? m.joints[size_t(source)].name : "?";
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(model.name),
+                        "joint '" + name + "': a transmission needs a revolute or prismatic joint of the spanning tree");
+        }
+        const JointT<double>& j = model.joints[size_t(sj)];
+        check_transmission(j, given);
+        Transmission t = given;
+        t.joint = sj, t.dof = j.v_index;
+        model.transmission_of_dof[size_t(t.dof)] = int(model.transmissions.size());
+        model.transmissions.push_back(t);
+    }
     for (const Drive& drive : options.drives) {
         const int sj = drive.joint >= 0 && size_t(drive.joint) < model.joint_of_source.size()
                            ? model.joint_of_source[size_t(drive.joint)]
@@ -197,7 +225,12 @@ Model build_model(const Mechanism& m, const BuildOptions& options) {
             throw Error(MBX_ERROR_INVALID_INPUT, Subject::constraint(drive.spec.joint.constraint_id, drive.name),
                         "drive '" + drive.name + "' is not on a revolute or prismatic tree joint of this mechanism");
         JointT<double>& j = model.joints[size_t(sj)];
-        j.dynamics.armature += drive.armature;
+        // The rotor is on the motor side of an elastic transmission.
+        const int t = model.transmission_of_dof[size_t(j.v_index)];
+        if (t >= 0)
+            model.transmissions[size_t(t)].motor_inertia += drive.armature;
+        else
+            j.dynamics.armature += drive.armature;
         model.drives.push_back(drive);
         model.drive_dof.push_back(j.v_index);
     }
@@ -218,6 +251,17 @@ Model build_model(const Mechanism& m, const BuildOptions& options) {
     }
     for (JointT<double>& j : model.joints) {
         if (j.nv() == 1) j.reference_inertia = data.M(j.v_index, j.v_index);
+        const int ti = j.nv() == 1 ? model.transmission_of_dof[size_t(j.v_index)] : -1;
+        if (ti >= 0) {
+            // A dead band's stops: a 1 ms time constant, critically damped,
+            // on the motor and the link in series (the simulation fit's law).
+            Transmission& t = model.transmissions[size_t(ti)];
+            const double link = j.reference_inertia, motor = t.motor_inertia;
+            const double reduced = link > 0 ? motor * link / (motor + link) : motor;
+            constexpr double rate = 1000;  // 1/s
+            t.stop_stiffness = reduced * rate * rate;
+            t.stop_damping = 2 * reduced * rate;
+        }
         JointDynamics& jd = j.dynamics;
         if (!jd.limited || (jd.limit_stiffness > 0 && jd.limit_damping > 0)) continue;
         double inertia = data.M(j.v_index, j.v_index);

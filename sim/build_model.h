@@ -19,6 +19,10 @@ struct BuildOptions {
     // Resolved drives (mechatronics/drive.h): each acts on its joint in the
     // loop and adds its armature (rotor and transmission inertia) there.
     std::vector<Drive> drives;
+    // Elastic transmissions by Mechanism::joints index (revolute and
+    // prismatic tree joints; sim/model.h TransmissionT, joint and dof filled
+    // here). A drive on such a joint adds its armature to the motor's inertia.
+    std::map<int, Transmission> transmissions;
     // Time constant and damping ratio of a position limit, as the joint's own
     // inertia at the assembly pose sees it (MuJoCo's solref defaults).
     double limit_time_constant = 0.02;
@@ -26,8 +30,8 @@ struct BuildOptions {
 };
 
 // Throws mbx::Error (MBX_ERROR_INVALID_INPUT) naming the joint for joint
-// dynamics that are not finite, negative where they cannot be, or on a joint
-// that has no single coordinate.
+// dynamics or a transmission that are not finite, negative where they
+// cannot be, or on a joint that has no single coordinate.
 Model build_model(const Mechanism& m, const BuildOptions& options = {});
 
 }  // namespace mbx::sim

@@ -16,7 +16,8 @@
 namespace mbx::sim {
 namespace {
 
-// State layout: y = (q, v) with nq + nv entries. Quaternions are integrated
+// State layout: y = (q, v, then each elastic transmission's motor position
+// and rate) with nq + nv + 2 nt entries. Quaternions are integrated
 // as they are (q' = q (x) (0, w) / 2, exact and polynomial in q) and put back
 // on the unit sphere by the projection, which CVODE applies to every step
 // without restarting; local coordinates re-centred after each step would
@@ -42,7 +43,7 @@ bool stateless_controller(const ControllerSpec& c) {
 struct Session {
     const Model* model = nullptr;
     const Data* owner = nullptr;
-    int nq = 0, nv = 0, n = 0;
+    int nq = 0, nv = 0, nt = 0, n = 0;
 
     SUNContext ctx = nullptr;
     void* mem = nullptr;
@@ -72,7 +73,7 @@ struct Session {
     // What data held when the last call returned, to continue seamlessly.
     bool live = false;
     double t_left = 0;
-    Eigen::VectorXd q_left, v_left, effort_left;
+    Eigen::VectorXd q_left, v_left, effort_left, motor_q_left, motor_v_left;
     std::vector<double> override_left;
     double rtol = 0, hmax = 0, closure_tolerance = 0;
 
@@ -124,7 +125,8 @@ struct Session {
         Data& dd = *d;
         dd.time = t;
         std::copy(yp, yp + nq, dd.q.data());
-        std::copy(yp + nq, yp + n, dd.v.data());
+        std::copy(yp + nq, yp + nq + nv, dd.v.data());
+        for (int i = 0; i < nt; ++i) dd.motor_q[i] = yp[nq + nv + 2 * i], dd.motor_v[i] = yp[nq + nv + 2 * i + 1];
         for (const JointT<double>& j : m().joints) {
             if (j.kind != JointKind::Spherical && j.kind != JointKind::Free) continue;
             Eigen::Map<Eigen::Vector4d> quat(dd.q.data() + j.q_index + (j.kind == JointKind::Free ? 3 : 0));
@@ -141,6 +143,7 @@ struct Session {
     void store(double* yp) const {
         std::copy(d->q.data(), d->q.data() + nq, yp);
         std::copy(d->v.data(), d->v.data() + nv, yp + nq);
+        for (int i = 0; i < nt; ++i) yp[nq + nv + 2 * i] = d->motor_q[i], yp[nq + nv + 2 * i + 1] = d->motor_v[i];
     }
 
     // Forces and forward dynamics at data's state; with `holding_effort`,
@@ -155,16 +158,17 @@ struct Session {
                 dd.qfrc_passive[friction_dof[i]] += slip_friction(friction(int(i)), dd.v[friction_dof[i]], mode[i]);
         for (size_t k = 0; k < mm.drives.size(); ++k) {
             if (!memoryless[k]) continue;
-            const JointT<double>& j = joint_of_dof(mm.drive_dof[k]);
+            const int dof = mm.drive_dof[k];
             const double over = dd.drives.target_override[k];
             const double target = std::isnan(over) ? mm.drives[k].spec.motion.at(dd.time).position : over;
             DriveController& c = law[k];
             c.reset();
             dd.drives.signals[k].target = target;
-            dd.drives.signals[k].output = c.update(dd.time, target, dd.q[j.q_index], dd.v[j.v_index]);
+            dd.drives.signals[k].output = c.update(dd.time, target, sensed_position(mm, dd, dof), sensed_rate(mm, dd, dof));
         }
         drive_forces(mm, dd);
         dd.qfrc_total = dd.effort + dd.qfrc_passive + dd.qfrc_drive;
+        apply_transmissions(mm, dd);
         if (dd.applied_forces) add_applied_forces(mm, dd);
         if (stuck_count)
             forward_dynamics(mm, dd, &stuck_rows, &stuck_bias);
@@ -207,7 +211,8 @@ int rhs(double t, N_Vector y, N_Vector ydot, void* user) {
         s.load(t, yp);
         s.dynamics(false);
         const Data& d = *s.d;
-        if (!d.qacc.allFinite()) return 1;
+        if (!d.qacc.allFinite() || !d.motor_acc.allFinite()) return 1;
+        for (int i = 0; i < s.nt; ++i) f[s.nq + s.nv + 2 * i] = d.motor_v[i], f[s.nq + s.nv + 2 * i + 1] = d.motor_acc[i];
         for (const JointT<double>& j : s.m().joints) {
             const double* w = d.v.data() + j.v_index;
             auto quat_rate = [&](int o, const double* omega) {
@@ -264,6 +269,7 @@ int projection(double t, N_Vector ycur, N_Vector corr, double, N_Vector, void* u
         if (!s.close(s.closure_tolerance)) return 1;  // recoverable: a smaller step may close
         for (int k = 0; k < s.nq; ++k) c[k] = s.d->q[k] - yp[k];
         for (int k = 0; k < s.nv; ++k) c[s.nq + k] = s.d->v[k] - yp[s.nq + k];
+        for (int k = s.nq + s.nv; k < s.n; ++k) c[k] = 0;  // the motors are outside the loops
         s.store(yp);
         return 0;
     } catch (...) {
@@ -283,12 +289,14 @@ void check(int flag, const char* what) {
 
 Session& session_for(const Model& m, Data& d) {
     auto* s = static_cast<Session*>(d.accurate_session.get());
-    if (s && s->model == &m && s->owner == &d && s->nq == m.nq && s->nv == m.nv) return *s;
+    if (s && s->model == &m && s->owner == &d && s->nq == m.nq && s->nv == m.nv && s->nt == int(m.transmissions.size()))
+        return *s;
     auto fresh = std::make_shared<Session>();
     s = fresh.get();
     s->model = &m;
     s->owner = &d;
-    s->nq = m.nq, s->nv = m.nv, s->n = m.nq + m.nv;
+    s->nq = m.nq, s->nv = m.nv, s->nt = int(m.transmissions.size());
+    s->n = m.nq + m.nv + 2 * s->nt;
     for (const JointT<double>& j : m.joints)
         if (j.nv() == 1 && j.dynamics.dry_friction()) s->friction_dof.push_back(j.v_index);
     const size_t nf = s->friction_dof.size();
@@ -356,6 +364,11 @@ void set_tolerances(Session& s, const IntegratorSettings& is) {
             const bool length = j.kind == JointKind::Prismatic || (j.kind == JointKind::Free && k < 3);
             a[s.nq + j.v_index + k] = is.tolerance * (length ? L : 1.0);
         }
+    }
+    for (const TransmissionT<double>& t : m.transmissions) {
+        const double scale = m.joints[size_t(t.joint)].kind == JointKind::Prismatic ? m.length_scale : 1.0;
+        const int i = int(&t - m.transmissions.data());
+        a[s.nq + s.nv + 2 * i] = a[s.nq + s.nv + 2 * i + 1] = is.tolerance * scale;
     }
     check(CVodeSVtolerances(s.mem, is.tolerance, s.abstol), "CVodeSVtolerances");
     check(CVodeSetMaxStep(s.mem, is.step > 0 ? is.step : 0.0), "CVodeSetMaxStep");
@@ -442,7 +455,8 @@ void restart(Session& s, bool fresh) {
 }
 
 bool same_hand_off(const Session& s, const Data& d, const IntegratorSettings& is) {
-    return s.live && d.time == s.t_left && d.q == s.q_left && d.v == s.v_left && d.effort == s.effort_left &&
+    return s.live && d.time == s.t_left && d.q == s.q_left && d.v == s.v_left &&
+           d.motor_q == s.motor_q_left && d.motor_v == s.motor_v_left && d.effort == s.effort_left &&
            d.drives.target_override == s.override_left && is.tolerance == s.rtol && is.step == s.hmax &&
            is.closure_tolerance == s.closure_tolerance;
 }
@@ -642,6 +656,7 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
         d.time = t_end;
     }
     s.q_left = d.q, s.v_left = d.v, s.effort_left = d.effort, s.t_left = d.time;
+    s.motor_q_left = d.motor_q, s.motor_v_left = d.motor_v;
     s.override_left = d.drives.target_override;
     detach.ok = true;
 }

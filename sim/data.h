@@ -107,6 +107,12 @@ template <class S> struct DataT {
     VecXT<S> tmp_v, tmp_v2;
     VecXT<S> q_start, v_start, v_stage, v_sum, a_sum;
 
+    // Elastic transmissions (model.transmissions): each motor's position and
+    // rate (joint units), its acceleration at the last evaluation and the
+    // integrators' copies, as for q and v above.
+    VecXT<S> motor_q, motor_v, motor_acc;
+    VecXT<S> motor_q_start, motor_v_start, motor_v_stage, motor_v_sum, motor_a_sum;
+
     // Drives in the loop (double models only) and run statistics.
     DriveLoop drives;
     RunStats stats;
@@ -146,6 +152,14 @@ template <class S> struct DataT {
         bias = VecXT<S>::Zero(m.nv);
         J = MatXT<S>::Zero(m.closure_rows, m.nv);
         residual = gamma = VecXT<S>::Zero(m.closure_rows);
+        const Eigen::Index nt = Eigen::Index(m.transmissions.size());
+        motor_q.resize(nt), motor_v.resize(nt);
+        for (Eigen::Index i = 0; i < nt; ++i) {
+            const JointT<S>& j = m.joints[size_t(m.transmissions[size_t(i)].joint)];
+            motor_q[i] = q[j.q_index], motor_v[i] = S(0);
+        }
+        motor_acc = motor_v_stage = motor_v_sum = motor_a_sum = VecXT<S>::Zero(nt);
+        motor_q_start = motor_q, motor_v_start = motor_v;
     }
 };
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/data.h"
+#include "sim/transmission.h"
 
 namespace mbx::sim {
 
@@ -27,14 +27,15 @@ inline void drive_effort(const Drive& d, double u, double qd, DriveSignals& s) {
 }
 
 // Samples every controller at time t on (data.q, data.v): new held outputs.
+// A drive on a joint with an elastic transmission reads and turns the motor.
 inline void update_controllers(const ModelT<double>& m, DataT<double>& d, double t) {
     DriveLoop& loop = d.drives;
     for (size_t k = 0; k < m.drives.size(); ++k) {
         const Drive& drive = m.drives[k];
-        const JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(m.drive_dof[k])])];
+        const int dof = m.drive_dof[k];
         const double target =
             std::isnan(loop.target_override[k]) ? drive.spec.motion.at(t).position : loop.target_override[k];
-        const double u = loop.controllers[k].update(t, target, d.q[j.q_index], d.v[j.v_index]) + loop.output_add[k];
+        const double u = loop.controllers[k].update(t, target, sensed_position(m, d, dof), sensed_rate(m, d, dof)) + loop.output_add[k];
         loop.signals[k].target = target;
         loop.signals[k].output = u;
     }
@@ -46,7 +47,7 @@ inline void drive_forces(const ModelT<double>& m, DataT<double>& d) {
     d.qfrc_drive.setZero(m.nv);
     for (size_t k = 0; k < m.drives.size(); ++k) {
         const int dof = m.drive_dof[k];
-        drive_effort(m.drives[k], loop.signals[k].output, d.v[dof], loop.signals[k]);
+        drive_effort(m.drives[k], loop.signals[k].output, sensed_rate(m, d, dof), loop.signals[k]);
         d.qfrc_drive[dof] += loop.signals[k].effort;
     }
 }

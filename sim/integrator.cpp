@@ -37,12 +37,18 @@ void evaluate(const Model& m, Data& d, FrictionLaw law, const std::vector<char>*
     passive_forces(m, d, law, stuck, step);
     drive_forces(m, d);
     d.qfrc_total = d.effort + d.qfrc_passive + d.qfrc_drive;
+    apply_transmissions(m, d);
     if (d.applied_forces) add_applied_forces(m, d);
     forward_dynamics<double>(m, d, nullptr, nullptr, positions_ready);
     ++d.stats.evaluations;
 }
 
 void check_finite_state(const Model& m, const Data& d, const char* when, mbx_status status) {
+    for (size_t i = 0; i < m.transmissions.size(); ++i)
+        if (!std::isfinite(d.motor_q[Eigen::Index(i)]) || !std::isfinite(d.motor_v[Eigen::Index(i)])) {
+            const JointT<double>& j = m.joints[size_t(m.transmissions[i].joint)];
+            throw Error(status, j.subject(), std::string("the motor of joint '") + j.name + "' has a non-finite position or velocity " + when);
+        }
     for (const JointT<double>& j : m.joints) {
         const bool finite = d.q.segment(j.q_index, j.nq()).allFinite() && d.v.segment(j.v_index, j.nv()).allFinite();
         if (!finite)
@@ -83,6 +89,8 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
         // Semi-implicit: the new velocity moves the positions (MuJoCo's Euler).
         evaluate(m, d, law, nullptr, h, positions_ready);
         d.v += h * d.qacc;
+        d.motor_v += h * d.motor_acc;
+        d.motor_q += h * d.motor_v;
         if (!m.closures.empty()) {
             // The step leaves the closures off by h^2/2 Jdot v = -h^2/2 gamma
             // to second order; moving back by the minimum-norm J x = gamma
@@ -120,22 +128,35 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
         d.v_sum.setZero();
         d.a_sum.setZero();
         d.v_stage = d.v_start;
+        // The motors (elastic transmissions) are stepped alongside.
+        const bool motors = !m.transmissions.empty();
+        if (motors) d.motor_v_sum.setZero(), d.motor_a_sum.setZero(), d.motor_v_stage = d.motor_v_start;
         for (int s = 0; s < 4; ++s) {
             if (s > 0) {
                 advance_from_start(d.v_stage, c[s] * h);
                 d.v_stage = d.v_start + (c[s] * h) * d.qacc;
                 d.v = d.v_stage;
+                if (motors) {
+                    d.motor_q = d.motor_q_start + (c[s] * h) * d.motor_v_stage;
+                    d.motor_v_stage = d.motor_v_start + (c[s] * h) * d.motor_acc;
+                    d.motor_v = d.motor_v_stage;
+                }
             }
             evaluate(m, d, law, nullptr, h, s == 0 && positions_ready);
             d.v_sum += w[s] * d.v_stage;
             d.a_sum += w[s] * d.qacc;
+            if (motors) d.motor_v_sum += w[s] * d.motor_v_stage, d.motor_a_sum += w[s] * d.motor_acc;
         }
         advance_from_start(d.v_sum, h / 6);
         d.v = d.v_start + (h / 6) * d.a_sum;
+        if (motors) {
+            d.motor_q = d.motor_q_start + (h / 6) * d.motor_v_sum;
+            d.motor_v = d.motor_v_start + (h / 6) * d.motor_a_sum;
+        }
     }
     d.time += h;
     ++stats.steps;
-    if (!(d.q.allFinite() && d.v.allFinite()))
+    if (!(d.q.allFinite() && d.v.allFinite() && d.motor_q.allFinite() && d.motor_v.allFinite()))
         check_finite_state(m, d, ("at t = " + std::to_string(d.time) + " s: the run diverged").c_str(), MBX_ERROR_SIMULATION);
     const bool carry = settings.kind == IntegratorKind::Euler && !m.closures.empty();
     stats.max_closure_residual = std::max(stats.max_closure_residual,
@@ -169,11 +190,14 @@ void fixed_step(const Model& m, Data& d, const IntegratorSettings& settings) {
     // A failed step leaves the last good state (the caller may report it or retry).
     d.q_start = d.q;
     d.v_start = d.v;
+    d.motor_q_start = d.motor_q;
+    d.motor_v_start = d.motor_v;
     const double t0 = d.time;
     try {
         fixed_step_unguarded(m, d, settings);
     } catch (...) {
         d.q = d.q_start, d.v = d.v_start, d.time = t0;
+        d.motor_q = d.motor_q_start, d.motor_v = d.motor_v_start;
         throw;
     }
 }

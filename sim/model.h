@@ -59,6 +59,32 @@ template <class S> struct JointDynamicsT {
     }
 };
 
+// An elastic transmission on a 1-dof joint: a motor-side inertia with a
+// coordinate of its own (in the joint's units: the motor angle as the joint
+// sees it through the gear), joined to the link by a spring and damper,
+// through a dead band of `backlash` when that is not 0. The drive, a
+// recorded effort and the encoder are on the motor side; the joint's own
+// dynamics (friction, armature, limits) stay on the link.
+template <class S> struct TransmissionT {
+    int joint = -1, dof = -1;  // sim joint and its velocity coordinate
+    S motor_inertia = S(0);    // kg m^2 (kg for a slide)
+    S stiffness = S(0);        // N m/rad (N/m)
+    S damping = S(0);          // N m s/rad (N s/m)
+    S backlash = S(0);         // rad (m): the dead band's whole width
+    // The stops of a dead band: stiff against the motion (a 1 ms time
+    // constant, critically damped, on the two inertias in series; set by
+    // build_model), pushing and never pulling.
+    S stop_stiffness = S(0), stop_damping = S(0);
+
+    template <class T> TransmissionT<T> cast() const {
+        TransmissionT<T> r;
+        r.joint = joint, r.dof = dof;
+        r.motor_inertia = T(motor_inertia), r.stiffness = T(stiffness), r.damping = T(damping), r.backlash = T(backlash);
+        r.stop_stiffness = T(stop_stiffness), r.stop_damping = T(stop_damping);
+        return r;
+    }
+};
+
 template <class S> struct BodyT {
     int parent = -1;     // sim body index (-1 for the world)
     int source = -1;     // Mechanism::bodies index (-1: none)
@@ -183,6 +209,10 @@ template <class S> struct ModelT {
     // coordinate each acts on; their armature is already in the joints'.
     std::vector<Drive> drives;
     std::vector<int> drive_dof;
+    // Elastic transmissions (at most one per joint) and, per velocity
+    // coordinate, the one on it (-1: none).
+    std::vector<TransmissionT<S>> transmissions;
+    std::vector<int> transmission_of_dof;
     // Fixed-step Coulomb friction is regularised as coulomb * tanh(qd / v);
     // v is the joint's coulomb_velocity or this.
     S coulomb_velocity = S(1e-3);
@@ -208,6 +238,8 @@ template <class S> struct ModelT {
         r.closure_rows = closure_rows;
         r.closure_rank = closure_rank;
         r.drives = drives, r.drive_dof = drive_dof;
+        for (const auto& t : transmissions) r.transmissions.push_back(t.template cast<T>());
+        r.transmission_of_dof = transmission_of_dof;
         r.coulomb_velocity = T(coulomb_velocity);
         r.mass_scale = T(mass_scale), r.length_scale = T(length_scale);
         return r;
@@ -216,5 +248,6 @@ template <class S> struct ModelT {
 
 using Model = ModelT<double>;
 using JointDynamics = JointDynamicsT<double>;
+using Transmission = TransmissionT<double>;
 
 }  // namespace mbx::sim

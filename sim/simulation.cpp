@@ -8,6 +8,7 @@
 #include "report/atomic_file.h"
 #include "report/json_writer.h"
 #include "sim/cvode_session.h"
+#include "sim/transmission.h"
 
 namespace mbx::sim {
 namespace {
@@ -22,11 +23,13 @@ double total_energy(const Model& m, Data& d) {
     update_kinematics(m, d);
     double k = 0, g = 0, s = 0;
     energy(m, d, k, g, s);
-    return k + g + s;
+    return k + g + s + transmission_energy(m, d);
 }
 
 bool model_is_passive(const Model& m) {
     if (!m.drives.empty()) return false;
+    for (const Transmission& t : m.transmissions)
+        if (t.damping != 0 || t.backlash != 0) return false;
     for (const JointT<double>& j : m.joints)
         if (j.dynamics.damping != 0 || (j.dynamics.asymmetric && j.dynamics.damping_negative != 0) ||
             j.dynamics.dry_friction() || j.dynamics.offset != 0 || j.dynamics.limited)
@@ -91,7 +94,9 @@ void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed
         }
     }
     check_finite_state(m, d, "in the initial state");
-    if (m.closures.empty()) return;
+    // Motors from their links' state, at rest against the load (after the
+    // loops are closed, below, when there are loops).
+    if (m.closures.empty()) return settle_transmissions(m, d);
     const double tol = closure_tolerance / m.length_scale;
     if (!project_positions(m, d, d.closure_factor, tol, 100, &q_fixed)) {
         const int worst = worst_closure(m, d.residual);
@@ -110,6 +115,7 @@ void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed
                     "no loop closure satisfies the initial velocities: the loop closed by cut joint '" + c.name +
                         "' would open at " + number(left * m.length_scale) + " per second");
     }
+    settle_transmissions(m, d);
 }
 
 std::vector<std::string> trajectory_columns(const Model& m) {
@@ -132,6 +138,12 @@ std::vector<std::string> trajectory_columns(const Model& m) {
         case JointKind::Fixed: break;
         }
     }
+    // The motors of elastic transmissions, after the joints (the joint's
+    // own columns are its link's).
+    for (const Transmission& t : m.transmissions) {
+        const std::string n = name_of(m.joints[size_t(t.joint)]);
+        cols.insert(cols.end(), {n + ".motor_q", n + ".motor_qd"});
+    }
     for (const Drive& drive : m.drives)
         cols.insert(cols.end(), {drive.name + ".target", drive.name + ".u", drive.name + ".current", drive.name + ".effort"});
     return cols;
@@ -145,6 +157,7 @@ void sample(const Model& m, const Data& d, Trajectory& out) {
         for (int k = 0; k < j.nq(); ++k) out.values.push_back(d.q[j.q_index + k]);
         for (int k = 0; k < j.nv(); ++k) out.values.push_back(d.v[j.v_index + k]);
     }
+    for (Eigen::Index i = 0; i < d.motor_q.size(); ++i) out.values.insert(out.values.end(), {d.motor_q[i], d.motor_v[i]});
     for (const DriveSignals& s : d.drives.signals) out.values.insert(out.values.end(), {s.target, s.output, s.current, s.effort});
 }
 
