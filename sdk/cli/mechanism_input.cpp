@@ -49,7 +49,9 @@ const char* kInputOptionsHelp =
     "  --library <file.xml>  an object library of motors and transmissions (repeatable; a drive file may\n"
     "              also name its libraries)\n"
     "  --drives <file.xml>  drives, controllers and motion targets keyed by the CAD joints' ids\n"
-    "              (docs/mechatronics.md)\n";
+    "              (docs/mechatronics.md)\n"
+    "  --collision hulls  a convex hull of every moving part's mesh as its collision shape, unless the\n"
+    "              description file gives that body shapes of its own (docs/contact.md)\n";
 
 int parse_input_option(const std::vector<std::string>& args, size_t& i, InputOptions& o, const char* command) {
     const std::string& a = args[i];
@@ -77,6 +79,12 @@ int parse_input_option(const std::vector<std::string>& args, size_t& i, InputOpt
             return 2;
         }
         o.drives_path = args[++i];
+    } else if (a == "--collision" && has_value) {
+        if (args[++i] != "hulls") {
+            std::fprintf(stderr, "mbx %s: --collision takes 'hulls' (other shapes go in the description file)\n", command);
+            return 2;
+        }
+        o.collision_hulls = true;
     } else {
         return 0;
     }
@@ -148,13 +156,20 @@ int open_input(const InputOptions& o, const char* command, OpenedInput& out) {
     if (out.file_input && o.mass_check) options.flags = MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
     // Libraries and drives are read before translating, so a typo in them
     // costs no translation time.
-    if (!o.libraries.empty() || !o.drives_path.empty()) {
+    if (!o.libraries.empty() || !o.drives_path.empty() || o.collision_hulls) {
         if (mbx_mechatronics_create(out.ctx, &out.mechatronics) != MBX_OK) return fail(out, MBX_ERROR_OUT_OF_MEMORY, "setup");
         for (const std::string& lib : o.libraries)
             if (mbx_mechatronics_load_library(out.ctx, out.mechatronics, lib.c_str()) != MBX_OK) return fail_input(out);
         if (!o.drives_path.empty() &&
             mbx_mechatronics_load_drives(out.ctx, out.mechatronics, o.drives_path.c_str()) != MBX_OK)
             return fail_input(out);
+        if (o.collision_hulls) {
+            mbx_collision_shape_desc hulls{};
+            hulls.struct_size = sizeof hulls;
+            hulls.body_id = "*";
+            hulls.kind = MBX_COLLISION_HULL;
+            if (mbx_mechatronics_add_collision_shape(out.ctx, out.mechatronics, &hulls) != MBX_OK) return fail_input(out);
+        }
     }
     const mbx_status status = mbx_translate(out.ctx, table, &options, &out.mech);
     if (status != MBX_OK) return fail(out, status, "translation");

@@ -18,6 +18,7 @@ struct InputOptions {
     mbx_files::FileAdapterOptions file_options;
     std::vector<std::string> libraries;
     std::string drives_path;
+    bool collision_hulls = false;  // --collision hulls: the description's body="*" hull default
     bool mass_check = true;
     bool progress = false;
     double length_tolerance = 0;

@@ -78,6 +78,12 @@ Scene::Scene(const Model& m, std::vector<Shape> shapes) : impl_(std::make_unique
         if (p <= 0 || m.joints[size_t(b - 1)].kind == JointKind::Free) continue;
         joined_[size_t(b) * size_t(body_count_) + size_t(p)] = joined_[size_t(p) * size_t(body_count_) + size_t(b)] = 1;
     }
+    // A joint cut to close a loop joins its two bodies as much as a tree
+    // joint does: their shapes overlap at the joint by construction.
+    for (const LoopClosureT<double>& c : m.closures)
+        if (c.body_a > 0 && c.body_b > 0 && c.body_a < body_count_ && c.body_b < body_count_)
+            joined_[size_t(c.body_a) * size_t(body_count_) + size_t(c.body_b)] =
+                joined_[size_t(c.body_b) * size_t(body_count_) + size_t(c.body_a)] = 1;
     for (size_t i = 0; i < shapes_.size(); ++i) {
         check(shapes_[i], body_count_);
         auto o = std::make_unique<fcl::CollisionObjectd>(geometry(shapes_[i]));

@@ -29,9 +29,10 @@ struct DetectionStats {
 
 class Scene {
 public:
-    // Pairs of shapes on bodies joined directly by a joint (parent and child;
-    // a floating body's free joint and a joint to the world do not count, as
-    // in MuJoCo) and shapes on the same body never collide. Throws mbx::Error naming
+    // Pairs of shapes on bodies joined directly by a joint (parent and child,
+    // or the two bodies of a loop's cut joint; a floating body's free joint
+    // and a joint to the world do not count, as in MuJoCo) and shapes on the
+    // same body never collide. Throws mbx::Error naming
     // the shape for a non-positive size, a body out of range or an empty hull.
     Scene(const Model& m, std::vector<Shape> shapes);
     ~Scene();

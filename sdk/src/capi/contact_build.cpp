@@ -75,6 +75,9 @@ void build_contact(const mbx_mechanism& mechanism, mbx_sim_model& model) {
             std::vector<Eigen::Vector3d> points;
             for (const Mesh& mesh : meshes[size_t(r.body)])
                 if (mesh.part_id == part_id) points.insert(points.end(), mesh.vertices.begin(), mesh.vertices.end());
+            // The default asks for every part; one the CAD gave no mesh
+            // simply has no hull (docs/contact.md).
+            if (points.empty() && r.from_default) continue;
             if (points.empty())
                 throw Error(MBX_ERROR_INVALID_INPUT, Subject::body(part_id, r.name),
                             "collision shape '" + r.name + "': the host gave no mesh for part '" + part_id + "' to wrap in a hull");

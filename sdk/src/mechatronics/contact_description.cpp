@@ -273,9 +273,15 @@ ResolvedContact resolve_contact(const ContactSpec& spec, const Mechanism& m, std
     std::map<std::string, int> names;
     auto add = [&](const CollisionSpec& s, int body, const Pose& pose, int hull_part, std::string name) {
         if (const int count = names[name]++; count > 0) name += "#" + std::to_string(count);
-        out.shapes.push_back({s, name, body, pose, hull_part});
+        out.shapes.push_back({s, name, body, pose, hull_part, s.body == "*"});
         out.shape_material.push_back(material_id(s.material));
     };
+    // Bodies a shape of their own is given for: the default leaves them be.
+    std::set<int> overridden;
+    for (const CollisionSpec& s : spec.shapes)
+        if (const auto it = body_of.find(s.body); it != body_of.end() && s.body != "*" && s.body != "world")
+            overridden.insert(it->second);
+    bool default_done = false;
     for (const CollisionSpec& s : spec.shapes) {
         auto fail = [&](const std::string& message) { errors.push_back({s.file, s.line, s.body, message}); };
         bool problems = false;
@@ -284,8 +290,11 @@ ResolvedContact resolve_contact(const ContactSpec& spec, const Mechanism& m, std
         const std::string kind_name[] = {"sphere", "box", "cylinder", "capsule", "plane", "hull"};
         const Pose local{rotation_from_rpy(s.rpy), s.position};
         if (s.body == "*") {
+            // Asked for twice (the file and `--collision hulls`): once is meant.
+            if (default_done) continue;
+            default_done = true;
             for (size_t b = 1; b < m.bodies.size(); ++b)
-                if (m.bodies[b].kind == MBX_RIGID_BODY_DYNAMIC)
+                if (m.bodies[b].kind == MBX_RIGID_BODY_DYNAMIC && !overridden.count(int(b)))
                     for (int p : m.bodies[b].parts)
                         add(s, int(b), Pose{}, p, m.assembly.parts[size_t(p)].name + "_hull");
             continue;

@@ -24,7 +24,10 @@ class XmlLines;
 enum class CollisionKind { Sphere, Box, Cylinder, Capsule, Plane, Hull };
 
 struct CollisionSpec {
-    std::string body;  // a rigid body's or CAD part's id, "world", or "*" (hull only: every moving body)
+    // A rigid body's or CAD part's id, "world", or "*" (hull only): the
+    // default, a hull per part of every moving body that no other
+    // <collision> names (a body's own shapes replace the default).
+    std::string body;
     std::string name;  // "" = made from the part and kind
     CollisionKind kind = CollisionKind::Sphere;
     double radius = 0, length = 0;   // sphere, cylinder, capsule (length along the shape's z)
@@ -82,6 +85,9 @@ struct ResolvedCollision {
     int body = -1;
     Pose pose;  // in the body frame
     int hull_part = -1;
+    // From the body="*" default: a part without a mesh is skipped (and
+    // noted) rather than refused, as a hull it was asked for by id is.
+    bool from_default = false;
 };
 
 struct ResolvedContact {
@@ -99,7 +105,9 @@ struct ResolvedContact {
     bool empty() const { return shapes.empty(); }
 };
 
-// Resolves against the mechanism. Refuses (with file, line and the id) an
+// Resolves against the mechanism. The body="*" default gives a hull per part
+// of each moving body no other shape is on (shapes on a body or on any of
+// its parts override it). Refuses (with file, line and the id) an
 // unknown body or part id, a shape on a joint node, a plane on a moving body,
 // a hull of a body without parts, and a pair naming a material no shape is
 // made of (most likely a misspelling).
