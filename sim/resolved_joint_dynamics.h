@@ -36,4 +36,19 @@ inline std::map<int, JointDynamics> joint_dynamics_by_joint(const std::vector<Re
     return out;
 }
 
+// The elastic transmissions the description gives, keyed the same way, for
+// BuildOptions::transmissions.
+inline std::map<int, Transmission> transmissions_by_joint(const std::vector<ResolvedJointDynamics>& resolved) {
+    std::map<int, Transmission> out;
+    for (const ResolvedJointDynamics& r : resolved) {
+        if (!r.transmission) continue;
+        Transmission& t = out[r.joint];
+        t.stiffness = r.transmission->stiffness;
+        t.damping = r.transmission->damping;
+        t.motor_inertia = r.transmission->motor_inertia;
+        t.backlash = r.transmission->backlash;
+    }
+    return out;
+}
+
 }  // namespace mbx::sim

@@ -8,9 +8,11 @@
 #include <cstdio>
 
 #include "export_fixture.h"
+#include "joint_dynamics_support.h"
 #include "mujoco_assemblies.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+#include "sim/resolved_joint_dynamics.h"
 #include "sim/simulation.h"
 #include "sim/transmission.h"
 
@@ -209,4 +211,33 @@ TEST_CASE("sim transmission: bad values are refused naming the joint") {
     CHECK_THROWS_WITH(build(0.1, 100, NAN, 0), doctest::Contains("damping must be finite"));
     CHECK_THROWS_WITH(build(0.1, 0, 0, 0), doctest::Contains("needs a positive stiffness, or a backlash"));
     CHECK_NOTHROW(build(0.1, 0, 0, 0.01));
+}
+
+TEST_CASE("sim transmission: a description's <transmission> reaches the model, a drive's rotor on the motor side") {
+    xtest::mjcf_assemblies::Pendulum shape;
+    auto t = xtest::translate(shape.assembly());
+    const sim::Model bare = sim::build_model(*t->mechanism);
+    const std::string id = bare.joints[0].constraint_id;
+    const std::vector<ResolvedJointDynamics> jd = xtest::resolve_joints(
+        *t->mechanism, "<joint constraint=\"" + id + "\" damping=\"0.1\" unit=\"deg\">\n"
+                       "<transmission stiffness=\"1500\" damping=\"0.3\" motor_inertia=\"0.02\" backlash=\"1\"/></joint>\n");
+    sim::BuildOptions options;
+    options.joint_dynamics = sim::joint_dynamics_by_joint(jd);
+    options.transmissions = sim::transmissions_by_joint(jd);
+    Drive drive;
+    drive.name = "d";
+    drive.joint = bare.joints[0].source;
+    drive.armature = 0.005;
+    options.drives.push_back(drive);
+    const sim::Model m = sim::build_model(*t->mechanism, options);
+    REQUIRE(m.transmissions.size() == 1);
+    const sim::Transmission& tr = m.transmissions[0];
+    CHECK(tr.joint == 0);
+    CHECK(tr.stiffness == 1500);
+    CHECK(tr.damping == 0.3);
+    CHECK(tr.backlash == doctest::Approx(M_PI / 180).epsilon(1e-15));
+    CHECK(tr.motor_inertia == doctest::Approx(0.025).epsilon(1e-15));  // the drive's rotor added
+    CHECK(m.joints[0].dynamics.armature == 0);                         // not on the link
+    CHECK(m.joints[0].dynamics.damping == 0.1);                        // the joint's own stay on the link
+    CHECK(m.transmission_of_dof[0] == 0);
 }

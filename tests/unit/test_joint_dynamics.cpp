@@ -344,3 +344,68 @@ TEST_CASE("joint dynamics file: bad offset, asymmetric or Stribeck values are er
     CHECK(errors[1].text().find("joint 'R1': offset must be finite") != std::string::npos);
     CHECK(errors[2].text().find("joint 'R1': stribeck needs a positive stribeck_velocity") != std::string::npos);
 }
+
+TEST_CASE("joint dynamics file: a <transmission> in a joint gives its coefficients in SI, the dead band in the joint's unit") {
+    const Loaded l = load(description("<joint constraint=\"R1\" damping=\"1\" unit=\"deg\">\n"
+                                      "  <transmission stiffness=\"2000\" damping=\"0.5\" motor_inertia=\"0.01\" backlash=\"0.5\"/>\n"
+                                      "</joint>\n<joint constraint=\"P1\" damping=\"2\"/>\n"));
+    for (const DriveError& e : l.errors) FAIL_CHECK(e.text());
+    REQUIRE(l.spec.joint_dynamics.size() == 2);
+    REQUIRE(l.spec.joint_dynamics[0].transmission);
+    const TransmissionSpec& t = *l.spec.joint_dynamics[0].transmission;
+    CHECK(t.stiffness == 2000);
+    CHECK(t.damping == 0.5);
+    CHECK(t.motor_inertia == 0.01);
+    CHECK(t.backlash == doctest::Approx(0.5 * kPi / 180).epsilon(1e-15));
+    CHECK(t.line == 3);
+    CHECK_FALSE(l.spec.joint_dynamics[1].transmission);
+    std::vector<DriveError> errors;
+    const std::vector<ResolvedJointDynamics> out = resolve_joint_dynamics(l.spec, mechanism(), errors);
+    CHECK(errors.empty());
+    REQUIRE(out.size() == 2);
+    REQUIRE(out[0].transmission);
+    CHECK(out[0].transmission->stiffness == 2000);
+    CHECK_FALSE(out[1].transmission);
+}
+
+TEST_CASE("joint dynamics file: a bad <transmission> is an error at its own line, naming the joint") {
+    auto expect = [](const std::string& transmission, const std::vector<std::string>& words) {
+        const Loaded l = load(description("<joint constraint=\"R1\">\n" + transmission + "\n</joint>\n"));
+        INFO(transmission);
+        REQUIRE(l.errors.size() == words.size());
+        for (size_t i = 0; i < words.size(); ++i) {
+            INFO(l.errors[i].text());
+            CHECK(l.errors[i].file == "joints.xml");
+            CHECK(l.errors[i].line == 3);
+            CHECK(l.errors[i].text().find("R1") != std::string::npos);
+            CHECK(l.errors[i].text().find(words[i]) != std::string::npos);
+        }
+        CHECK(l.spec.joint_dynamics.empty());
+    };
+    expect("<transmission stiffness=\"-1\" motor_inertia=\"0.1\"/>", {"transmission stiffness must be finite and not negative"});
+    expect("<transmission stiffness=\"10\" damping=\"-1\" motor_inertia=\"0.1\"/>", {"transmission damping must be finite and not negative"});
+    expect("<transmission stiffness=\"10\" motor_inertia=\"0\"/>", {"transmission motor_inertia must be positive"});
+    expect("<transmission stiffness=\"10\"/>", {"transmission needs motor_inertia", "motor_inertia must be positive"});
+    expect("<transmission motor_inertia=\"0.1\"/>", {"needs a positive stiffness, or a backlash"});
+    expect("<transmission stiffness=\"stiff\" motor_inertia=\"0.1\"/>", {"stiffness = 'stiff' is not a number", "needs a positive stiffness"});
+    expect("<transmission stiffness=\"10\" motor_inertia=\"0.1\" gear=\"3\"/>", {"unknown attribute 'gear' on <transmission>"});
+    // A second one names the first's line.
+    const Loaded twice = load(description("<joint constraint=\"R1\">\n<transmission stiffness=\"1\" motor_inertia=\"1\"/>\n"
+                                          "<transmission stiffness=\"2\" motor_inertia=\"1\"/>\n</joint>\n"));
+    REQUIRE(twice.errors.size() == 1);
+    CHECK(twice.errors[0].line == 4);
+    CHECK(twice.errors[0].text().find("a second <transmission> in the joint (the first is at line 3)") != std::string::npos);
+
+    // Through the C API's path (no file reader) resolution checks it again.
+    MechatronicSpec spec;
+    JointDynamicsSpec bad;
+    bad.joint.constraint_id = "R1";
+    bad.transmission = TransmissionSpec{};
+    bad.transmission->stiffness = NAN;
+    bad.transmission->motor_inertia = 1;
+    spec.joint_dynamics.push_back(bad);
+    std::vector<DriveError> errors;
+    CHECK(resolve_joint_dynamics(spec, mechanism(), errors).empty());
+    REQUIRE(errors.size() == 1);
+    CHECK(errors[0].text().find("joint 'R1': transmission stiffness must be finite and not negative") != std::string::npos);
+}

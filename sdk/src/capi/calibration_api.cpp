@@ -50,6 +50,7 @@ MBX_API mbx_status mbx_calibrate(mbx_context* context, const mbx_mechanism* mech
         }
         build.drives = mechanism->drives;
         build.joint_dynamics = sim::joint_dynamics_by_joint(mechanism->joint_dynamics);
+        build.transmissions = sim::transmissions_by_joint(mechanism->joint_dynamics);
         const Experiment experiment = load_experiment(o.experiment);
         CalibrateOptions co;
         if (context->progress) {

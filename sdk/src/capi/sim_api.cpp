@@ -73,6 +73,7 @@ MBX_API mbx_status mbx_sim_model_create(mbx_context* context, const mbx_mechanis
         }
         build.drives = mechanism->drives;
         build.joint_dynamics = joint_dynamics_by_joint(mechanism->joint_dynamics);
+        build.transmissions = transmissions_by_joint(mechanism->joint_dynamics);
         auto handle = std::make_unique<mbx_sim_model>();
         const int integrator = raw_enum(o.integrator);
         switch (integrator) {

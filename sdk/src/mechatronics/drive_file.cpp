@@ -31,6 +31,7 @@ const std::map<std::string, std::set<std::string>>& allowed_attributes() {
         {"joint", {"constraint", "primitive", "damping", "coulomb", "coulomb_velocity", "stiffness", "rest", "armature",
                    "lower", "upper", "unit", "offset", "coulomb_negative", "damping_negative", "stribeck",
                    "stribeck_velocity"}},
+        {"transmission", {"stiffness", "damping", "motor_inertia", "backlash"}},
         {"body", {"id", "mass_scale"}},
     };
     return table;
@@ -216,12 +217,31 @@ private:
         check_attributes(n, who);
         if (j.joint.constraint_id.empty()) error(n, who, "joint has no constraint (the CAD joint's stable id)");
         j.joint.primitive = primitive(n, who);
-        for (pugi::xml_node c : n.children())
-            if (c.type() == pugi::node_element)
-                error(c, who, "unknown element <" + std::string(c.name()) + "> in a joint (it takes attributes only)");
         j.unit = n.attribute("unit").as_string();
         bool known = true;
         const double factor = motion_unit_factor(j.unit, known);
+        for (pugi::xml_node c : n.children()) {
+            if (c.type() != pugi::node_element) continue;
+            if (std::string(c.name()) != "transmission") {
+                error(c, who, "unknown element <" + std::string(c.name()) + "> in a joint (transmission)");
+                continue;
+            }
+            if (j.transmission) {
+                error(c, who, "a second <transmission> in the joint (the first is at line " +
+                                  std::to_string(j.transmission->line) + ")");
+                continue;
+            }
+            check_attributes(c, who);
+            TransmissionSpec t;
+            t.line = lines_.line(c);
+            // Coefficients per rad or m, as the joint's; the dead band's width in the joint's unit.
+            t.stiffness = number(c, "stiffness", 0, who);
+            t.damping = number(c, "damping", 0, who);
+            t.motor_inertia = number(c, "motor_inertia", 0, who);
+            t.backlash = number(c, "backlash", 0, who) * factor;
+            if (!c.attribute("motor_inertia")) error(c, who, "transmission needs motor_inertia");
+            j.transmission = t;
+        }
         if (!known) error(n, who, "unit '" + j.unit + "' is not rad, deg, m or mm");
         // Positions and the regularisation speed follow `unit`; the
         // coefficients are per rad or m always, so a file never holds a
@@ -239,7 +259,16 @@ private:
         j.rest = number(n, "rest", 0, who) * factor;
         for (const auto& [name, value] : joint_dynamics_coefficients(j))
             if (value < 0) error(n, who, std::string(name) + " must not be negative");
-        for (const std::string& problem : joint_dynamics_problems(j)) error(n, who, problem);
+        for (const std::string& problem : joint_dynamics_problems(j)) {
+            const bool of_transmission = problem.rfind("transmission", 0) == 0;
+            // The transmission's problems at its own line.
+            if (of_transmission && j.transmission) {
+                errors_.push_back({file_, j.transmission->line, who, problem});
+                bad_ = true;
+            } else {
+                error(n, who, problem);
+            }
+        }
         const bool lower = bool(n.attribute("lower")), upper = bool(n.attribute("upper"));
         if (lower != upper) {
             error(n, who, std::string("a limit needs both lower and upper (") + (lower ? "upper" : "lower") + " is missing)");

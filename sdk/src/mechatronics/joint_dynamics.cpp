@@ -24,6 +24,20 @@ std::vector<std::string> joint_dynamics_problems(const JointDynamicsSpec& s) {
     // law never shows, which only the accurate mode would see.
     if (s.stribeck > 0 && !(s.stribeck_velocity > 0))
         out.push_back("stribeck needs a positive stribeck_velocity (the speed over which the peak decays)");
+    if (const auto& t = s.transmission) {
+        const std::pair<const char*, double> values[] = {{"stiffness", t->stiffness}, {"damping", t->damping},
+                                                         {"motor_inertia", t->motor_inertia}, {"backlash", t->backlash}};
+        bool finite = true;
+        for (const auto& [name, value] : values)
+            if (!std::isfinite(value) || value < 0) {
+                out.push_back(std::string("transmission ") + name + " must be finite and not negative");
+                finite = false;
+            }
+        if (finite && !(t->motor_inertia > 0))
+            out.push_back("transmission motor_inertia must be positive (the motor side needs an inertia of its own)");
+        if (finite && !(t->stiffness > 0) && !(t->backlash > 0))
+            out.push_back("transmission needs a positive stiffness, or a backlash (a dead band between stops)");
+    }
     return out;
 }
 
@@ -144,6 +158,7 @@ std::vector<ResolvedJointDynamics> resolve_joint_dynamics(const MechatronicSpec&
         r.limited = s.limited;
         r.lower = s.lower;
         r.upper = s.upper;
+        r.transmission = s.transmission;
         given[size_t(j)] = int(index);
         out.push_back(std::move(r));
     }

@@ -15,6 +15,18 @@
 
 namespace mbx {
 
+// An elastic transmission between the joint's motor side (where the drive
+// acts and the encoder reads) and its link: a motor-side inertia, a spring
+// and damper, and a dead band of `backlash` (0: none). Coefficients per rad
+// or m; backlash in SI after the joint's unit.
+struct TransmissionSpec {
+    double stiffness = 0;      // N m/rad or N/m
+    double damping = 0;        // N m s/rad or N s/m
+    double motor_inertia = 0;  // kg m^2 or kg, the motor side as the joint sees it
+    double backlash = 0;       // rad or m, the dead band's whole width
+    int line = 0;
+};
+
 // As the user wrote it, in SI: efforts in N m (revolute) or N (prismatic),
 // positions in rad or m. `unit` is the position unit the file used
 // ("rad", "deg", "m", "mm"; "" = SI, no check), kept so that resolution can
@@ -35,6 +47,7 @@ struct JointDynamicsSpec {
     double armature = 0;          // kg m^2 or kg, added to the joint's inertia
     bool limited = false;         // lower/upper given (they replace the CAD joint's limits)
     double lower = 0, upper = 0;  // rad or m
+    std::optional<TransmissionSpec> transmission;  // a <transmission> child
     std::string unit;
     std::string file;  // where it was declared, "" when set through the C API
     int line = 0;
@@ -66,6 +79,7 @@ struct ResolvedJointDynamics {
     double stribeck = 0, stribeck_velocity = 0, offset = 0;
     bool limited = false;
     double lower = 0, upper = 0;
+    std::optional<TransmissionSpec> transmission;
 
     bool asymmetric() const { return damping_negative != damping || coulomb_negative != coulomb; }
     // The symmetric part of the law, what a format with one friction level
