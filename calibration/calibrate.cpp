@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "calibration/body_quantities.h"
 #include "calibration/model_extension.h"
 #include "calibration/replay.h"
 #include "core/finding.h"
@@ -52,7 +53,7 @@ void score(const Experiment& e, const std::vector<Record>& records, const std::v
         const Record& rec = records[r];
         for (size_t c = 0; c < compared.size(); ++c) {
             const ComparedSignal& cs = compared[c];
-            const std::vector<double>& meas = rec.find(cs.quantity, cs.dof)->values;
+            const std::vector<double>& meas = *measured_values(rec, cs);
             const std::vector<double> reference = error_reference(e, rec, cs, meas);
             const std::vector<double>& s = sim.values[r][c];
             double ee = 0, nn = 0;
@@ -65,6 +66,7 @@ void score(const Experiment& e, const std::vector<Record>& records, const std::v
             }
             SignalError se;
             se.record = int(r), se.role = rec.role, se.joint = cs.joint, se.quantity = cs.quantity, se.weight = cs.weight;
+            se.body = cs.body, se.component = cs.component, se.point = cs.point;
             se.relative = nn > 0 ? 100 * std::sqrt(ee / nn) : 0;
             se.rms = count ? std::sqrt(ee / double(count)) : 0;
             step.simulated.push_back(se);
@@ -201,7 +203,8 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
         for (size_t c = 0; c < compared.size(); ++c) {
             Trace t;
             t.record = int(r), t.role = rec.role, t.joint = compared[c].joint, t.quantity = compared[c].quantity;
-            const std::vector<double>& meas = rec.find(compared[c].quantity, compared[c].dof)->values;
+            t.body = compared[c].body, t.component = compared[c].component, t.point = compared[c].point;
+            const std::vector<double>& meas = *measured_values(rec, compared[c]);
             for (size_t k = 0; k < rec.t.size(); k += stride) {
                 if (!in_window(compared[c], rec, k)) continue;
                 t.t.push_back(rec.t[k]);

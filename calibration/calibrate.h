@@ -23,6 +23,8 @@ struct SignalError {
     Role role = Role::Fit;
     int joint = -1;   // sim joint
     Quantity quantity = Quantity::Effort;
+    int body = -1, component = -1;  // a body quantity (joint -1): its sim body, axis or component
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
     double weight = 1;
     double relative = 0;  // %
     double rms = 0;       // SI
@@ -46,6 +48,8 @@ struct Trace {
     Role role = Role::Fit;
     int joint = -1;
     Quantity quantity = Quantity::Effort;
+    int body = -1, component = -1;  // as SignalError's
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
     std::vector<double> t, measured, baseline, calibrated;
 };
 

@@ -1,6 +1,8 @@
 #include "calibration/calibration_files.h"
 
 #include "calibration/calibration_files_detail.h"
+#include <cstdio>
+
 #include "core/finding.h"
 #include "report/atomic_file.h"
 
@@ -22,6 +24,8 @@ const char* quantity_unit(Quantity q, bool linear) {
     case Quantity::Voltage:
     case Quantity::ControllerInput: return "V";
     case Quantity::Current: return "A";
+    case Quantity::Orientation: return "1";
+    case Quantity::AngularVelocity: return "rad/s";
     }
     return "";
 }
@@ -53,6 +57,38 @@ std::string joint_label(const sim::Model& model, int j) {
     return joint.constraint_id.empty() ? joint.name : joint.name + " (" + joint.constraint_id + ")";
 }
 
+const char* component_name(Quantity q, int component) {
+    static const char* axes[] = {"x", "y", "z"};
+    static const char* quaternion[] = {"w", "x", "y", "z"};
+    if (q == Quantity::Orientation) return component >= 0 && component < 4 ? quaternion[component] : "?";
+    return component >= 0 && component < 3 ? axes[component] : "?";
+}
+
+std::string signal_label(const sim::Model& model, int joint, int body, Quantity q, int component,
+                         const Eigen::Vector3d& point) {
+    if (body < 0) return joint_label(model, joint);
+    if (size_t(body) >= model.bodies.size()) return "body " + std::to_string(body);
+    const auto& b = model.bodies[size_t(body)];
+    std::string s = "body " + b.name + (b.id.empty() || b.id == b.name ? "" : " (" + b.id + ")") + " " + component_name(q, component);
+    if (!point.isZero()) {
+        char at[96];
+        std::snprintf(at, sizeof at, " at (%g, %g, %g) m", point[0], point[1], point[2]);
+        s += at;
+    }
+    return s;
+}
+
+const char* signal_unit(const sim::Model& model, int joint, int body, Quantity q) {
+    if (body < 0) return quantity_unit(q, linear_joint(model, joint));
+    switch (q) {
+    case Quantity::Position: return "m";
+    case Quantity::Velocity: return "m/s";
+    case Quantity::AngularVelocity: return "rad/s";
+    case Quantity::Orientation: return "1";
+    default: return "";
+    }
+}
+
 namespace {
 
 [[noreturn]] void bad(const std::string& what) {
@@ -68,10 +104,11 @@ void check_result(const sim::Model& model, const CalibrationResult& r) {
     const size_t causes = r.identification.causes.size();
     auto joint_ok = [&](int j) { return j >= 0 && size_t(j) < joints; };
     auto record_ok = [&](int i) { return i >= 0 && size_t(i) < records; };
+    auto subject_ok = [&](int j, int b) { return b >= 0 ? size_t(b) < model.bodies.size() : joint_ok(j); };
     for (const StepErrors& s : r.steps) {
         if (s.cause >= int(causes)) bad("step '" + s.label + "' names cause " + std::to_string(s.cause));
         for (const SignalError& e : s.simulated)
-            if (!record_ok(e.record) || !joint_ok(e.joint))
+            if (!record_ok(e.record) || !subject_ok(e.joint, e.body))
                 bad("a signal error of step '" + s.label + "' names record " + std::to_string(e.record) + ", joint " +
                     std::to_string(e.joint));
     }
@@ -81,7 +118,7 @@ void check_result(const sim::Model& model, const CalibrationResult& r) {
             bad("cause " + c.candidate.cause + " has no subject in the model");
     }
     for (const Trace& t : r.traces) {
-        if (!record_ok(t.record) || !joint_ok(t.joint)) bad("a trace names a record or joint that does not exist");
+        if (!record_ok(t.record) || !subject_ok(t.joint, t.body)) bad("a trace names a record or joint that does not exist");
         const size_t n = t.t.size();
         if (t.measured.size() != n || t.baseline.size() != n || t.calibrated.size() != n)
             bad("a trace's series differ in length");

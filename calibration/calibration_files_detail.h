@@ -30,6 +30,17 @@ const StepErrors* step_of_cause(const CalibrationResult& r, int i);
 // "joint <name> (<constraint id>)" for messages and labels.
 std::string joint_label(const sim::Model& model, int j);
 
+// A compared signal's subject for labels: "joint <name> (<id>)", or for a
+// body quantity "body <name> (<id>) x" with " at (px, py, pz) m" for a point
+// off the body's origin (the quaternion component for an orientation).
+std::string signal_label(const sim::Model& model, int joint, int body, Quantity q, int component,
+                         const Eigen::Vector3d& point);
+// The axis or component's letter of a body quantity ("x", "w").
+const char* component_name(Quantity q, int component);
+// SI unit of a compared signal (a joint's per its kind; a body's position m,
+// velocity m/s, angular velocity rad/s, orientation 1).
+const char* signal_unit(const sim::Model& model, int joint, int body, Quantity q);
+
 // Throws mbx::Error (MBX_ERROR_INVALID_INPUT) when the result refers to a
 // record, joint, body or cause that does not exist, or has no baseline:
 // the writers index with these numbers.

@@ -305,14 +305,17 @@ void step_table(std::string& h, const CalibrationResult& r) {
 void signal_table(std::string& h, const sim::Model& model, const CalibrationResult& r) {
     const StepErrors &b = r.baseline(), &f = r.final_step();
     if (b.simulated.empty()) return;
-    h += "<table><tr><th>record</th><th>joint</th><th>quantity</th><th>weight</th><th>baseline %</th>"
+    h += "<table><tr><th>record</th><th>joint or body</th><th>quantity</th><th>weight</th><th>baseline %</th>"
          "<th>calibrated %</th><th>baseline RMS</th><th>calibrated RMS</th></tr>\n";
     for (const SignalError& e : b.simulated) {
         const SignalError* after = nullptr;
         for (const SignalError& g : f.simulated)
-            if (g.record == e.record && g.joint == e.joint && g.quantity == e.quantity) after = &g;
-        const char* unit = quantity_unit(e.quantity, linear_joint(model, e.joint));
-        h += "<tr><td>" + esc(record_label(r, e.record)) + "</td><td>" + esc(joint_label(model, e.joint)) + "</td><td>" +
+            if (g.record == e.record && g.joint == e.joint && g.quantity == e.quantity && g.body == e.body &&
+                g.component == e.component && g.point == e.point)
+                after = &g;
+        const char* unit = signal_unit(model, e.joint, e.body, e.quantity);
+        h += "<tr><td>" + esc(record_label(r, e.record)) + "</td><td>" +
+             esc(signal_label(model, e.joint, e.body, e.quantity, e.component, e.point)) + "</td><td>" +
              quantity_name(e.quantity) + "</td><td class=n>" + num(e.weight) + "</td><td class=n>" + num(e.relative) +
              "</td><td class=n>" + (after ? num(after->relative) : "") + "</td><td class=n>" + num(e.rms) + " " + unit +
              "</td><td class=n>" + (after ? num(after->rms) + " " + unit : "") + "</td></tr>\n";
@@ -426,11 +429,11 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
 
     if (!r.traces.empty()) h += "<h2>Compared signals</h2>\n";
     for (const Trace& t : r.traces) {
-        const bool linear = linear_joint(model, t.joint);
         Plot p;
-        p.title = record_label(r, t.record) + ": " + joint_label(model, t.joint) + " " + quantity_name(t.quantity);
+        p.title = record_label(r, t.record) + ": " + signal_label(model, t.joint, t.body, t.quantity, t.component, t.point) +
+                  " " + quantity_name(t.quantity);
         p.xlabel = "time [s]";
-        p.ylabel = axis_label(t.quantity, linear);
+        p.ylabel = std::string(quantity_name(t.quantity)) + " [" + signal_unit(model, t.joint, t.body, t.quantity) + "]";
         p.series = {{"measured", "#222222", &t.t, &t.measured},
                     {"baseline", "#d95f02", &t.t, &t.baseline},
                     {"calibrated", "#1f77b4", &t.t, &t.calibrated}};

@@ -18,6 +18,25 @@ void joint_ref(JsonWriter& w, const sim::Model& model, int j) {
     w.end_object();
 }
 
+// A joint's signal: its joint; a body quantity's: the body, the axis or
+// quaternion component and the point (body frame, m).
+void signal_subject(JsonWriter& w, const sim::Model& model, int joint, int body, Quantity q, int component,
+                    const Eigen::Vector3d& point) {
+    if (body < 0) {
+        joint_ref(w, model, joint);
+        return;
+    }
+    w.key("body").begin_object(JsonWriter::Layout::Inline);
+    w.member("id", model.bodies[size_t(body)].id).member("name", model.bodies[size_t(body)].name);
+    w.end_object();
+    w.member(q == Quantity::Orientation ? "component" : "axis", component_name(q, component));
+    if (q == Quantity::Position || q == Quantity::Velocity) {
+        w.key("point").begin_array(JsonWriter::Layout::Inline);
+        for (int k = 0; k < 3; ++k) w.value(point[k]);
+        w.end_array();
+    }
+}
+
 // One step's errors: the inverse-dynamics ones and every simulated signal's.
 void errors(JsonWriter& w, const sim::Model& model, const CalibrationResult& r, const StepErrors& s) {
     w.begin_object();
@@ -32,9 +51,9 @@ void errors(JsonWriter& w, const sim::Model& model, const CalibrationResult& r, 
         w.begin_object(JsonWriter::Layout::Inline);
         w.member("record", e.record).member("path", r.record_paths[size_t(e.record)]);
         w.member("role", role_name(e.role));
-        joint_ref(w, model, e.joint);
+        signal_subject(w, model, e.joint, e.body, e.quantity, e.component, e.point);
         w.member("quantity", quantity_name(e.quantity));
-        w.member("unit", quantity_unit(e.quantity, linear_joint(model, e.joint)));
+        w.member("unit", signal_unit(model, e.joint, e.body, e.quantity));
         w.member("weight", e.weight).member("relative", e.relative).member("rms", e.rms);
         w.end_object();
     }

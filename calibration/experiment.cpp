@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "core/finding.h"
 #include "mechatronics/xml_text.h"
@@ -22,6 +23,8 @@ const char* quantity_name(Quantity q) {
     case Quantity::Current: return "current";
     case Quantity::Reference: return "reference";
     case Quantity::ControllerInput: return "controller_input";
+    case Quantity::Orientation: return "orientation";
+    case Quantity::AngularVelocity: return "angular_velocity";
     }
     return "?";
 }
@@ -39,7 +42,8 @@ namespace {
 
 bool parse_quantity(const std::string& word, Quantity& out) {
     for (Quantity q : {Quantity::Position, Quantity::Velocity, Quantity::Acceleration, Quantity::Effort,
-                       Quantity::Voltage, Quantity::Current, Quantity::Reference, Quantity::ControllerInput})
+                       Quantity::Voltage, Quantity::Current, Quantity::Reference, Quantity::ControllerInput,
+                       Quantity::Orientation, Quantity::AngularVelocity})
         if (word == quantity_name(q)) {
             out = q;
             return true;
@@ -83,6 +87,8 @@ bool unit_factor(Quantity q, const std::string& unit, bool linear, double& facto
     case Quantity::Voltage:
     case Quantity::ControllerInput: factor = 1; return unit == "V";
     case Quantity::Current: factor = 1; return unit == "A";
+    case Quantity::Orientation: factor = 1; return unit == "1";
+    case Quantity::AngularVelocity: return lookup(angle_units(), unit, "/s", factor);
     }
     return false;
 }
@@ -148,7 +154,7 @@ public:
                     fail(line, "<time> unit must be 's' or 'ms' (got '" + unit + "')");
                 exp_.time_factor *= positive(n, "scale", 1);
             } else if (name == "column") {
-                attributes(n, {"name", "joint", "body", "quantity", "unit", "scale", "optional"});
+                attributes(n, {"name", "joint", "body", "quantity", "unit", "scale", "optional", "axis", "component", "point"});
                 ColumnSpec c;
                 c.line = line;
                 c.name = n.attribute("name").value();
@@ -156,11 +162,18 @@ public:
                 if (!column_names.insert(c.name).second) fail(line, "column '" + c.name + "' is described twice");
                 subject(n, c.joint, c.body);
                 c.quantity = quantity(n);
+                body_component(n, !c.body.empty(), c.quantity, c.component, c.point);
                 c.unit = n.attribute("unit").value();
+                // A quaternion has no unit to forget.
+                if (c.unit.empty() && c.quantity == Quantity::Orientation) c.unit = "1";
                 if (c.unit.empty()) fail(line, "<column> '" + c.name + "' needs a unit");
                 double f = 0;
-                if (!c.unit.empty() && !unit_factor(c.quantity, c.unit, false, f) && !unit_factor(c.quantity, c.unit, true, f))
-                    fail(line, "unit '" + c.unit + "' is not one of " + quantity_name(c.quantity) + "'s units");
+                const bool unit_ok = !c.body.empty()
+                                         ? unit_factor(c.quantity, c.unit, true, f)
+                                         : unit_factor(c.quantity, c.unit, false, f) || unit_factor(c.quantity, c.unit, true, f);
+                if (!c.unit.empty() && !unit_ok)
+                    fail(line, "unit '" + c.unit + "' is not one of " + (c.body.empty() ? "" : "a body's ") +
+                                   quantity_name(c.quantity) + "'s units");
                 c.scale = number(n, "scale", 1);
                 if (c.scale == 0) fail(line, "<column> scale must not be 0");
                 const std::string opt = n.attribute("optional").value();
@@ -182,11 +195,12 @@ public:
                     fail(line, "<drive> mode must be closed_loop, effort or free (got '" + mode + "')");
                 exp_.horizon = positive(n, "horizon", 0.5);
             } else if (name == "compare") {
-                attributes(n, {"joint", "body", "quantity", "weight", "start", "stop"});
+                attributes(n, {"joint", "body", "quantity", "weight", "start", "stop", "axis", "component", "point"});
                 CompareSpec c;
                 c.line = line;
                 subject(n, c.joint, c.body);
                 c.quantity = quantity(n);
+                body_component(n, !c.body.empty(), c.quantity, c.component, c.point);
                 c.weight = positive(n, "weight", 1);
                 c.start = optional_number(n, "start", -1);
                 c.stop = optional_number(n, "stop", -1);
@@ -257,8 +271,61 @@ private:
         const std::string word = n.attribute("quantity").value();
         if (!parse_quantity(word, q))
             fail(lines_.line(n), "unknown quantity '" + word +
-                                     "' (position, velocity, acceleration, effort, voltage, current, reference, controller_input)");
+                                     "' (position, velocity, acceleration, effort, voltage, current, reference, controller_input; "
+                                     "a body's position, velocity, orientation, angular_velocity)");
         return q;
+    }
+    // The axis, quaternion component and point of a body quantity; refused
+    // on a joint, and a joint's quantities refused on a body.
+    void body_component(const pugi::xml_node& n, bool body, Quantity q, int& component, std::array<double, 3>& point) {
+        const int line = lines_.line(n);
+        const std::string axis = n.attribute("axis").value(), comp = n.attribute("component").value();
+        const bool has_point = bool(n.attribute("point"));
+        const std::string element = std::string("<") + n.name() + ">";
+        if (!body) {
+            if (!axis.empty() || !comp.empty() || has_point)
+                fail(line, element + ": axis, component and point describe a body quantity, not a joint's");
+            if (q == Quantity::Orientation || q == Quantity::AngularVelocity)
+                fail(line, element + ": a joint has no " + quantity_name(q) + " (give a body)");
+            return;
+        }
+        if (q != Quantity::Position && q != Quantity::Velocity && q != Quantity::Orientation && q != Quantity::AngularVelocity) {
+            fail(line, element + ": a body's " + quantity_name(q) +
+                           " is not measured (position, velocity, orientation or angular_velocity)");
+            return;
+        }
+        if (q == Quantity::Orientation) {
+            if (!axis.empty()) fail(line, element + ": an orientation has a component (w, x, y or z), not an axis");
+            if (has_point) fail(line, element + ": an orientation is the body's, not a point's");
+            static const char* names[] = {"w", "x", "y", "z"};
+            for (int k = 0; k < 4; ++k)
+                if (comp == names[k]) component = k;
+            if (component < 0) fail(line, element + ": orientation component must be w, x, y or z (got '" + comp + "')");
+            return;
+        }
+        if (!comp.empty()) fail(line, element + ": a body's " + quantity_name(q) + " has an axis (x, y or z), not a component");
+        static const char* names[] = {"x", "y", "z"};
+        for (int k = 0; k < 3; ++k)
+            if (axis == names[k]) component = k;
+        if (component < 0) fail(line, element + ": axis must be x, y or z (got '" + axis + "')");
+        if (!has_point) return;
+        if (q == Quantity::AngularVelocity) {
+            fail(line, element + ": an angular velocity is the body's, not a point's");
+            return;
+        }
+        std::istringstream in(n.attribute("point").value());
+        std::string word;
+        int count = 0;
+        bool ok = true;
+        while (in >> word) {
+            double v = 0;
+            if (count < 3 && parse_xml_number(word.c_str(), v)) point[size_t(count)] = v;
+            else ok = false;
+            ++count;
+        }
+        if (!ok || count != 3)
+            fail(line, element + ": point must be three finite numbers in metres, body frame (got '" +
+                           std::string(n.attribute("point").value()) + "')");
     }
 
     const std::string& text_;

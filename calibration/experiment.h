@@ -3,12 +3,15 @@
 // how the model is driven along them and which signals are compared. Parsed
 // with every problem named by file and line.
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 
 namespace mbx::calibration {
 
-enum class Quantity { Position, Velocity, Acceleration, Effort, Voltage, Current, Reference, ControllerInput };
+// Orientation and AngularVelocity are body quantities only; Position and
+// Velocity are a joint's coordinate or a body point's world coordinates.
+enum class Quantity { Position, Velocity, Acceleration, Effort, Voltage, Current, Reference, ControllerInput, Orientation, AngularVelocity };
 enum class DriveMode { ClosedLoop, Effort, Free };
 enum class Role { Fit, Validation };
 
@@ -29,6 +32,12 @@ struct ColumnSpec {
     std::string name;
     std::string joint, body;  // CAD id or report name; exactly one is set
     Quantity quantity = Quantity::Position;
+    // Body quantities (docs/calibration.md, "Body quantities"): the world
+    // axis of a position or velocity and the body-frame axis of an angular
+    // velocity (0 x, 1 y, 2 z), or the quaternion component of an
+    // orientation (0 w, 1 x, 2 y, 3 z); -1 for joint quantities.
+    int component = -1;
+    std::array<double, 3> point{0, 0, 0};  // m, body frame: the point a position or velocity is of
     std::string unit;
     double scale = 1;  // the user's factor on top of the unit's
     bool optional = false;
@@ -38,6 +47,8 @@ struct ColumnSpec {
 struct CompareSpec {
     std::string joint, body;
     Quantity quantity = Quantity::Effort;
+    int component = -1;                    // as ColumnSpec's
+    std::array<double, 3> point{0, 0, 0};  // as ColumnSpec's
     double weight = 1;
     double start = -1, stop = -1;
     int line = 0;
@@ -60,7 +71,9 @@ Experiment load_experiment(const std::string& path);
 Experiment parse_experiment(const std::string& text, const std::string& path);
 
 // The SI factor of a unit for a quantity; false if the unit is unknown for
-// it. `linear`: the joint is prismatic (lengths) rather than revolute (angles).
+// it. `linear`: the joint is prismatic (lengths) rather than revolute
+// (angles); a body's position and velocity are linear, its angular velocity
+// is not, its orientation (a unit quaternion) takes "1".
 bool unit_factor(Quantity q, const std::string& unit, bool linear, double& factor);
 
 }  // namespace mbx::calibration

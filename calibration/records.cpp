@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "calibration/body_quantities.h"
 #include "core/finding.h"
 #include "sim/simulation.h"
 
@@ -99,11 +100,19 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
         const ColumnSpec* spec;
         int joint, dof;
         double factor;
+        int body = -1;
     };
     std::vector<Binding> bindings;
     for (const ColumnSpec& c : e.columns) {
-        if (!c.body.empty())
-            fail(e.path, c.line, "column '" + c.name + "': body quantities are not supported yet (give a joint)");
+        if (!c.body.empty()) {
+            const int b = body_of_key(m, c.body, e.path, c.line);
+            double factor = 1;
+            if (!unit_factor(c.quantity, c.unit, true, factor))
+                fail(e.path, c.line, "unit '" + c.unit + "' does not fit the " + quantity_name(c.quantity) + " of body '" +
+                                         m.bodies[size_t(b)].name + "'");
+            bindings.push_back({&c, -1, -1, factor * c.scale, b});
+            continue;
+        }
         const int j = joint_of_key(m, c.joint, e.path, c.line);
         const sim::JointT<double>& joint = m.joints[size_t(j)];
         const bool linear = joint.kind == sim::JointKind::Prismatic;
@@ -144,6 +153,15 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
                 if (b.spec->optional) continue;
                 fail(rs.path, 1, "no column '" + b.spec->name + "' (described at " + e.path + ":" +
                                      std::to_string(b.spec->line) + ")");
+            }
+            if (b.body >= 0) {
+                BodySignal s;
+                s.quantity = b.spec->quantity, s.body = b.body, s.component = b.spec->component, s.column = b.spec->name;
+                s.point = Eigen::Vector3d(b.spec->point[0], b.spec->point[1], b.spec->point[2]);
+                s.values.reserve(last - first);
+                for (size_t k = first; k < last; ++k) s.values.push_back(table.columns[size_t(c)][k] * b.factor);
+                r.body_signals.push_back(std::move(s));
+                continue;
             }
             Signal s;
             s.quantity = b.spec->quantity, s.joint = b.joint, s.dof = b.dof, s.column = b.spec->name;

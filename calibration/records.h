@@ -20,12 +20,32 @@ struct Signal {
     std::vector<double> values;  // SI, one per sample
 };
 
+// A measured body quantity (calibration/body_quantities.h), in SI: kept
+// apart from the joint signals, which every joint-space stage reads by
+// velocity coordinate.
+struct BodySignal {
+    Quantity quantity = Quantity::Position;
+    int body = -1;       // sim body index
+    int component = -1;  // world axis, quaternion component (w x y z) or body axis, as ColumnSpec's
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // m, body frame
+    std::string column;
+    std::vector<double> values;
+};
+
 struct Record {
     std::string path;
     Role role = Role::Fit;
     double start = 0, stop = 0;  // the window used, s
     std::vector<double> t;       // s
     std::vector<Signal> signals;
+    std::vector<BodySignal> body_signals;
+
+    // The signal of this body quantity (the same point, exactly), or null.
+    const BodySignal* find_body(Quantity q, int body, int component, const Eigen::Vector3d& point) const {
+        for (const BodySignal& s : body_signals)
+            if (s.quantity == q && s.body == body && s.component == component && s.point == point) return &s;
+        return nullptr;
+    }
 
     const Signal* find(Quantity q, int dof) const {
         for (const Signal& s : signals)
@@ -44,8 +64,9 @@ constexpr size_t kMinimumSamples = 50;
 int joint_of_key(const sim::Model& m, const std::string& key, const std::string& file, int line);
 
 // Reads every record of `e` and binds its columns to `m`'s joints (CAD
-// constraint id or report name). Throws mbx::Error naming file and line:
-// unknown joint, a unit of the wrong kind for it, a missing column, a cell
+// constraint id or report name) and bodies (rigid body id or report name).
+// Throws mbx::Error naming file and line:
+// unknown joint or body, a unit of the wrong kind for it, a missing column, a cell
 // that is not a finite number, time not increasing, too few samples.
 std::vector<Record> load_records(const Experiment& e, const sim::Model& m);
 

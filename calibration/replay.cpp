@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "calibration/body_quantities.h"
 #include "calibration/closed_chain.h"
 #include "calibration/filters.h"
 #include "core/finding.h"
@@ -46,6 +47,12 @@ double value_at(const Record& r, const std::vector<double>& v, double t) {
     std::ostringstream s;
     s << "replay of " << r.path << " diverged at t = " << t << " s: " << e.what();
     throw Error(MBX_ERROR_SIMULATION, e.subject(), s.str());
+}
+
+bool any_body_signal(const std::vector<ComparedSignal>& compared) {
+    for (const ComparedSignal& c : compared)
+        if (c.body >= 0) return true;
+    return false;
 }
 
 // Filtered measured positions and rates of every measured coordinate.
@@ -102,10 +109,13 @@ void measured_state(const sim::Model& m, sim::Data& d, const Record& r, size_t k
         fixed.push_back({s.joint, 0, true, qd});
     }
     sim::initial_state(m, d, fixed);
+    set_measured_free_bodies(m, d, r, k);
     d.time = r.t[k];
 }
 
-double simulated_value(const sim::Model& m, const sim::Data& d, const ComparedSignal& c, const ReplayAdjustments& a) {
+double simulated_value(const sim::Model& m, const sim::Data& d, const ComparedSignal& c, const ReplayAdjustments& a,
+                       const BodyKinematics& bodies, const Record& r, size_t k) {
+    if (c.body >= 0) return bodies.value(c.quantity, c.body, c.component, c.point, &r, k);
     switch (c.quantity) {
     case Quantity::Position: return d.q[c.q_index] + a.sensor_offset[size_t(c.dof)];
     case Quantity::Velocity: return d.v[c.dof];
@@ -130,6 +140,8 @@ std::vector<std::vector<double>> closed_loop(const sim::Model& m, const Record& 
     }
     sim::Data d(m);
     measured_state(m, d, r, 0, adjust);
+    BodyKinematics bodies(m);
+    const bool any_body = any_body_signal(compared);
     const sim::IntegratorSettings settings = settings_for(r.sample_period());
     std::vector<std::vector<double>> out(compared.size(), std::vector<double>(n, NAN));
     for (size_t k = 0; k < n; ++k) {
@@ -139,8 +151,9 @@ std::vector<std::vector<double>> closed_loop(const sim::Model& m, const Record& 
         }
         // Positions at the sample; efforts over the period that follows it,
         // which is when the output computed at the sample acts.
+        if (any_body) bodies.update(d);
         for (size_t c = 0; c < compared.size(); ++c)
-            if (compared[c].quantity != Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust);
+            if (compared[c].quantity != Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust, bodies, r, k);
         const double t_next = k + 1 < n ? r.t[k + 1] : r.t[k] + r.sample_period();
         try {
             sim::advance(m, d, settings, t_next);
@@ -148,7 +161,7 @@ std::vector<std::vector<double>> closed_loop(const sim::Model& m, const Record& 
             diverged(r, d.time, e);
         }
         for (size_t c = 0; c < compared.size(); ++c)
-            if (compared[c].quantity == Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust);
+            if (compared[c].quantity == Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust, bodies, r, k);
     }
     return out;
 }
@@ -166,12 +179,15 @@ void forward_windows(const sim::Model& m, const Record& r, const std::vector<Com
     const size_t window = horizon > 0 ? std::max<size_t>(2, size_t(std::llround(horizon / dt))) : n;
     const sim::IntegratorSettings settings = settings_for(dt);
     sim::Data d(m);
+    BodyKinematics bodies(m);
+    const bool any_body = any_body_signal(compared);
     for (size_t w0 = 0; w0 < n; w0 += window) {
         measured_state(m, d, r, w0, adjust);
         const size_t w1 = std::min(n, w0 + window);
         for (size_t k = w0; k < w1; ++k) {
+            if (any_body) bodies.update(d);
             for (size_t c = 0; c < compared.size(); ++c)
-                if (compared[c].quantity != Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust);
+                if (compared[c].quantity != Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust, bodies, r, k);
             if (k + 1 == w1) break;
             for (int dof = 0; dof < m.nv; ++dof) {
                 const Signal* s = effort[size_t(dof)];
@@ -258,7 +274,10 @@ void measured_start_state(const sim::Model& m, sim::Data& d, const Record& r, si
 std::vector<ComparedSignal> compared_signals(const Experiment& e, const sim::Model& m) {
     std::vector<ComparedSignal> out;
     for (const CompareSpec& c : e.compare) {
-        if (!c.body.empty()) fail(e.path, c.line, "<compare> of a body quantity is not supported yet (give a joint)");
+        if (!c.body.empty()) {
+            out.push_back(bind_body_compare(e, c, m));
+            continue;
+        }
         const int j = joint_of_key(m, c.joint, e.path, c.line);
         const sim::JointT<double>& joint = m.joints[size_t(j)];
         ComparedSignal s;
@@ -287,11 +306,14 @@ bool in_window(const ComparedSignal& s, const Record& r, size_t k) {
 std::vector<std::vector<double>> replay(const sim::Model& m, const Experiment& e, const Record& r,
                                         const std::vector<ComparedSignal>& compared, const ReplayAdjustments& adjust) {
     for (const ComparedSignal& c : compared)
-        if (!r.find(c.quantity, c.dof))
-            throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(c.joint)].subject(),
-                        r.path + ": no measured " + quantity_name(c.quantity) + " of joint '" +
-                            m.joints[size_t(c.joint)].name + "' to compare with (" + e.path + ":" +
-                            std::to_string(c.line) + ")");
+        if (!measured_values(r, c))
+            throw Error(MBX_ERROR_INVALID_INPUT,
+                        c.body >= 0 ? Subject::rigid_body(m.bodies[size_t(c.body)].id, m.bodies[size_t(c.body)].name)
+                                    : m.joints[size_t(c.joint)].subject(),
+                        r.path + ": no measured " + quantity_name(c.quantity) + " of " +
+                            (c.body >= 0 ? "body '" + m.bodies[size_t(c.body)].name + "' (a <column> of the same axis or component and point)"
+                                         : "joint '" + m.joints[size_t(c.joint)].name + "'") +
+                            " to compare with (" + e.path + ":" + std::to_string(c.line) + ")");
     std::vector<std::vector<double>> out;
     switch (e.mode) {
     case DriveMode::ClosedLoop:

@@ -28,6 +28,9 @@ struct ReplayAdjustments {
 // A compared signal bound to the model.
 struct ComparedSignal {
     int joint = -1, dof = -1, q_index = -1;
+    // A body quantity (calibration/body_quantities.h): body >= 0, joint -1.
+    int body = -1, component = -1;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
     int drive = -1;  // the drive on the joint (-1: none)
     Quantity quantity = Quantity::Effort;
     double weight = 1;
