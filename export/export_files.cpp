@@ -26,7 +26,7 @@ OutputFiles export_files(ExportModel& model, uint32_t formats) {
     if (formats & MBX_EXPORT_URDF) wanted[urdf_mesh_format(chosen)] = true;
     for (int f = 0; f < 3; ++f)
         if (wanted[f]) export_body_meshes(model, mbx_mesh_format(f), out);
-    if (formats & MBX_EXPORT_MESHES) export_scene(model, out);
+    if (formats & MBX_EXPORT_MESHES) export_scene(model, out, model.settings().scene_collision);
     return out;
 }
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/finding.h"
+#include "mesh/collision_meshes.h"
 #include "mesh/mesh_export.h"
 
 namespace mbx {
@@ -129,7 +130,7 @@ const char* kPageScript = R"JS(
     if (!drawn) {
       drawn = countDrawn();
       status.textContent = 'nodes=' + nodes.filter(x => x).length + ' frames=' + (MBX_MOTION ? MBX_MOTION.times.length : 0) +
-                           ' drawn=' + drawn.toFixed(4);
+                           ' drawn=' + drawn.toFixed(4) + ' collision=' + status.dataset.collision;
       status.dataset.drawn = drawn;
     }
   }
@@ -137,6 +138,17 @@ const char* kPageScript = R"JS(
     const root = gltf.scene;
     scene.add(root);
     root.updateMatrixWorld(true);
+    // Collision shapes ride under their bodies' nodes; hidden until asked for.
+    const collision = MBX_COLLISION.map(name => root.getObjectByName(name)).filter(x => x);
+    const toggle = document.getElementById('mbx-collision');
+    const showCollision = () => collision.forEach(node => { node.visible = toggle.checked; });
+    // view.html#collision opens with them shown (a link can ask for them).
+    if (toggle) {
+      toggle.checked = location.hash.indexOf('collision') >= 0;
+      toggle.addEventListener('change', showCollision);
+      showCollision();
+    }
+    status.dataset.collision = collision.length;
     if (MBX_MOTION) {
       for (const name of MBX_MOTION.nodes) {
         const node = root.getObjectByName(name);
@@ -162,6 +174,12 @@ const char* kPageScript = R"JS(
 })();
 )JS";
 
+std::string collision_list(const std::vector<std::string>& names) {
+    std::string out;
+    for (size_t k = 0; k < names.size(); ++k) out += (k ? "," : "") + js_string(names[k]);
+    return out;
+}
+
 std::string escape_html(const std::string& s) {
     std::string out;
     for (char c : s) {
@@ -175,31 +193,41 @@ std::string escape_html(const std::string& s) {
 
 }  // namespace
 
-std::string view_page(const std::string& title, const std::string& glb, const PosedTrajectory* motion) {
+std::string view_page(const std::string& title, const std::string& glb, const PosedTrajectory* motion,
+                      const std::vector<std::string>& collision_nodes) {
     const std::string three = read_script("three.min.js"), loader = read_script("examples/js/loaders/GLTFLoader.js"),
                       controls = read_script("examples/js/controls/OrbitControls.js");
     std::ostringstream page;
     page << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << escape_html(title) << "</title>\n"
          << "<style>html,body{margin:0;height:100%;overflow:hidden;font:13px sans-serif}"
-         << "#mbx-status{position:absolute;left:8px;top:6px;color:#555}</style></head>\n<body>\n"
+         << "#mbx-status{position:absolute;left:8px;top:6px;color:#555}"
+         << "#mbx-collision-label{position:absolute;right:8px;top:6px;color:#555}</style></head>\n<body>\n"
          << "<div id=\"mbx-status\">loading</div>\n"
+         << (collision_nodes.empty() ? ""
+                                     : "<label id=\"mbx-collision-label\"><input type=\"checkbox\" id=\"mbx-collision\">"
+                                       " collision shapes</label>\n")
          << "<script>\n" << three << "\n</script>\n<script>\n" << loader << "\n</script>\n<script>\n" << controls
          << "\n</script>\n<script>\nconst MBX_SCENE = \"" << base64(glb) << "\";\nconst MBX_MOTION = "
-         << (motion && motion->frames() ? motion_json(*motion) : std::string("null")) << ";\n"
+         << (motion && motion->frames() ? motion_json(*motion) : std::string("null")) << ";\nconst MBX_COLLISION = ["
+         << collision_list(collision_nodes) << "];\n"
          << kPageScript << "</script>\n</body></html>\n";
     return page.str();
 }
 
 OutputFiles view_files(ExportModel& model, const std::string& trajectory_csv) {
     OutputFiles scene;
-    export_scene(model, scene);
+    const bool collision = !model.settings().contact.empty();
+    export_scene(model, scene, collision);
+    std::vector<std::string> collision_nodes;
+    if (collision)
+        for (const CollisionMesh& c : collision_meshes(model, "view")) collision_nodes.push_back(c.node);
     if (scene.empty())
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(model.settings().model_name),
                     "nothing to show: no body of the model has a mesh");
     PosedTrajectory motion;
     if (!trajectory_csv.empty()) motion = pose_trajectory(model, trajectory_csv);
     return {OutputFile{"view.html", view_page(model.settings().model_name, scene.front().contents,
-                                              trajectory_csv.empty() ? nullptr : &motion)}};
+                                              trajectory_csv.empty() ? nullptr : &motion, collision_nodes)}};
 }
 
 }  // namespace mbx

@@ -5,6 +5,7 @@
 // "mbx-status" what it drew (for headless checks).
 #pragma once
 #include <string>
+#include <vector>
 
 #include "common/export_model.h"
 #include "view/trajectory_poses.h"
@@ -12,11 +13,15 @@
 namespace mbx {
 
 // The page for scene.glb bytes `glb`; `motion` may be null (a still view).
-// Throws mbx::Error when three.js (Debian's libjs-three) is not installed.
-std::string view_page(const std::string& title, const std::string& glb, const PosedTrajectory* motion);
+// `collision_nodes` names the scene's collision shape nodes: the page hides
+// them and shows a "collision shapes" checkbox (id mbx-collision) that shows
+// them. Throws mbx::Error when three.js (Debian's libjs-three) is not installed.
+std::string view_page(const std::string& title, const std::string& glb, const PosedTrajectory* motion,
+                      const std::vector<std::string>& collision_nodes = {});
 
-// view.html for `model` (its scene exported in memory), with the trajectory
-// of `trajectory_csv` when that is not empty.
+// view.html for `model` (its scene exported in memory, with the collision
+// shapes of its description when it has any), with the trajectory of
+// `trajectory_csv` when that is not empty.
 OutputFiles view_files(ExportModel& model, const std::string& trajectory_csv);
 
 }  // namespace mbx

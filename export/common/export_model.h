@@ -25,8 +25,11 @@ struct ExportSettings {
     // damping, friction, spring, limits and armature of tree joints. A joint
     // that also has a drive gets both (armatures and dampings add up).
     std::vector<ResolvedJointDynamics> joint_dynamics;
-    // Collision shapes and contact materials (resolve_contact): MJCF geoms.
+    // Collision shapes and contact materials (resolve_contact): MJCF geoms,
+    // URDF <collision>, and in the glTF scene when scene_collision is set.
     ResolvedContact contact;
+    // scene.glb also shows the collision shapes (semi-transparent nodes; opt-in).
+    bool scene_collision = false;
 };
 
 // One output file, path relative to the output directory with '/' separators.

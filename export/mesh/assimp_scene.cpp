@@ -87,6 +87,24 @@ std::unique_ptr<aiScene> new_scene(const std::string& root_name) {
     return scene;
 }
 
+unsigned add_collision_material(aiScene& scene) {
+    auto** list = new aiMaterial*[scene.mNumMaterials + 1]();
+    for (unsigned i = 0; i < scene.mNumMaterials; ++i) list[i] = scene.mMaterials[i];
+    delete[] scene.mMaterials;
+    scene.mMaterials = list;
+    auto* material = new aiMaterial;
+    list[scene.mNumMaterials] = material;
+    const aiString name("mbx_collision");
+    material->AddProperty(&name, AI_MATKEY_NAME);
+    const aiColor3D colour(1.0f, 0.45f, 0.1f);
+    material->AddProperty(&colour, 1, AI_MATKEY_COLOR_DIFFUSE);
+    // assimp's glTF writer turns an opacity below 1 into alpha mode BLEND
+    // with that alpha: the part's own mesh stays visible through its hull.
+    const float opacity = 0.35f;
+    material->AddProperty(&opacity, 1, AI_MATKEY_OPACITY);
+    return scene.mNumMaterials++;
+}
+
 void set_meshes(aiScene& scene, std::vector<std::unique_ptr<aiMesh>> meshes) {
     auto** list = new aiMesh*[meshes.size()]();
     for (size_t i = 0; i < meshes.size(); ++i) list[i] = meshes[i].release();
@@ -109,12 +127,12 @@ bool exactly_identity(const aiMatrix4x4& m) { return m == aiMatrix4x4(); }
 
 }  // namespace
 
-void add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose) {
+aiNode* add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose, aiNode* parent) {
     auto node = std::make_unique<aiNode>(name);
     node->mMeshes = new unsigned[1]{mesh};
     node->mNumMeshes = 1;
     node->mTransformation = matrix_of(pose);
-    aiNode* parent = scene.mRootNode;
+    if (!parent) parent = scene.mRootNode;
     // assimp's glTF exporter writes no transform for a node whose matrix
     // aiMatrix4x4::IsIdentity() accepts, and that test allows 0.01 in every
     // entry: a body 5 mm from the origin would land on it. Such a pose goes
@@ -133,6 +151,7 @@ void add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const
     }
     aiNode* raw = node.release();
     parent->addChildren(1, &raw);
+    return raw;
 }
 
 std::string export_blob(const aiScene& scene, const char* format_id, const std::string& what) {

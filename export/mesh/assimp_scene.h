@@ -25,12 +25,17 @@ std::unique_ptr<aiMesh> combine_parts(const std::vector<Mesh>& parts, const std:
 // root node named `root_name`.
 std::unique_ptr<aiScene> new_scene(const std::string& root_name);
 
+// Adds a semi-transparent orange material for collision shapes (glTF: alpha
+// mode BLEND) and returns its index.
+unsigned add_collision_material(aiScene& scene);
+
 // Moves `meshes` into `scene` (replacing its mesh list).
 void set_meshes(aiScene& scene, std::vector<std::unique_ptr<aiMesh>> meshes);
 
-// Adds a node below the root that instances mesh `mesh` at `pose` (composed
-// from the root; a pose close to identity gets a helper parent node).
-void add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose);
+// Adds a node below `parent` (null: the root) that instances mesh `mesh` at
+// `pose` relative to it (a pose close to identity gets a helper parent
+// node); returns the node.
+aiNode* add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose, aiNode* parent = nullptr);
 
 // The main (first) blob assimp's exporter `format_id` makes of `scene`.
 // Throws Error(MBX_ERROR_INTERNAL) when assimp fails or yields companion

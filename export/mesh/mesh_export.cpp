@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "mesh/assimp_scene.h"
+#include "mesh/collision_meshes.h"
 
 namespace mbx {
 
@@ -68,7 +69,7 @@ void export_body_meshes(ExportModel& model, mbx_mesh_format format, OutputFiles&
     }
 }
 
-void export_scene(ExportModel& model, OutputFiles& out) {
+void export_scene(ExportModel& model, OutputFiles& out, bool collision) {
     const Mechanism& m = model.mechanism();
     // assimp's glTF writer makes node names unique by renaming later ones, so
     // the root gets a name no body stem can have (stems are identifiers).
@@ -83,11 +84,24 @@ void export_scene(ExportModel& model, OutputFiles& out) {
         bodies.push_back(body);
     }
     if (bodies.empty()) return;  // nothing to show; an empty glTF scene would only confuse
+    std::vector<CollisionMesh> shapes;
+    if (collision) shapes = collision_meshes(model, "glTF scene");
+    const unsigned collision_material = shapes.empty() ? 0 : add_collision_material(*scene);
+    for (const CollisionMesh& c : shapes) {
+        meshes.push_back(combine_parts({c.mesh}, c.node, Subject::model(c.mesh.name), "collision shape '" + c.mesh.name + "'"));
+        meshes.back()->mMaterialIndex = collision_material;
+    }
     set_meshes(*scene, std::move(meshes));
     // One node per body at its world pose in the assembly configuration,
     // named like its mesh file (body name made unique and file-safe).
+    std::vector<aiNode*> body_node(m.bodies.size(), nullptr);
     for (size_t i = 0; i < bodies.size(); ++i)
-        add_mesh_node(*scene, model.mesh_stem(bodies[i]), unsigned(i), m.bodies[size_t(bodies[i])].pose);
+        body_node[size_t(bodies[i])] = add_mesh_node(*scene, model.mesh_stem(bodies[i]), unsigned(i), m.bodies[size_t(bodies[i])].pose);
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        const CollisionMesh& c = shapes[i];
+        aiNode* parent = body_node[size_t(c.body)];
+        add_mesh_node(*scene, c.node, unsigned(bodies.size() + i), parent ? c.pose : m.bodies[size_t(c.body)].pose * c.pose, parent);
+    }
     out.push_back(OutputFile{"scene.glb", export_blob(*scene, "glb2", "the assembly scene")});
 }
 

@@ -16,7 +16,11 @@ std::string encode_mesh(const std::vector<Mesh>& meshes, const std::string& name
 // Appends meshes/<stem>.<ext> for every body that has geometry.
 void export_body_meshes(ExportModel& model, mbx_mesh_format format, OutputFiles& out);
 
-// Appends scene.glb: every body's mesh as a node at its world pose.
-void export_scene(ExportModel& model, OutputFiles& out);
+// Appends scene.glb: every body's mesh as a node at its world pose. With
+// `collision`, also every collision shape (collision_meshes.h) as a
+// semi-transparent node named like CollisionMesh::node: a child of its
+// body's node at its pose in the body frame (so it moves with the body), or
+// at its world pose under the root when the body has no mesh.
+void export_scene(ExportModel& model, OutputFiles& out, bool collision = false);
 
 }  // namespace mbx

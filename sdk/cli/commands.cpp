@@ -19,12 +19,13 @@ const std::string kTranslateUsage = std::string(
     "usage: mbx translate <input> -o <dir> [--shapes <file.wrl>] [--mesh-dir <dir>]... [--no-mass-check]\n"
     "                     [--strict] [--progress] [--length-tolerance <m>]\n"
     "                     [--format <list>] [--mesh-format stl|obj|gltf] [--name <model>] [--stop-time <s>]\n"
-    "                     [--library <file.xml>]... [--drives <file.xml>]\n"
+    "                     [--library <file.xml>]... [--drives <file.xml>] [--collision hulls] [--scene-collision]\n"
     "\n"
     "  -o <dir>    output directory (created if missing)\n") + kInputOptionsHelp +
     "  --strict    exit with code 3 when the report holds errors\n"
     "  --format <list>  comma-separated exports: modelica, mjcf, urdf, meshes, all (default) or none\n"
     "              (modelica/<Name>/, mjcf/<name>.xml, urdf/<name>.urdf, meshes/ and scene.glb)\n"
+    "  --scene-collision  scene.glb also draws the collision shapes (semi-transparent; see --collision)\n"
     "  --mesh-format stl|obj|gltf  format of meshes/ (default stl; gltf is written as binary .glb;\n"
     "              MJCF and URDF use STL unless obj)\n"
     "  --name <model>  model name in the exports (default: the input's file name or built-in name)\n"
@@ -97,6 +98,8 @@ int run_translate(const std::vector<std::string>& args) {
             out_dir = args[++i];
         } else if (a == "--strict") {
             strict = true;
+        } else if (a == "--scene-collision") {
+            export_options.formats |= MBX_EXPORT_SCENE_COLLISION;
         } else if (a == "--format" && i + 1 < args.size()) {
             if (!parse_formats(args[++i], formats)) {
                 std::fprintf(stderr, "mbx translate: --format takes modelica, mjcf, urdf, meshes, all or none, "
@@ -142,7 +145,7 @@ int run_translate(const std::vector<std::string>& args) {
     mbx_status status;
     if (formats) {
         if (model_name.empty()) model_name = c.file_input ? stem_of(input) : stem_of(input.substr(input.rfind(':') + 1));
-        export_options.formats = formats;
+        export_options.formats |= formats;
         export_options.model_name = model_name.c_str();
         status = mbx_mechanism_export(c.ctx, c.mech, &export_options, out_dir.c_str());
         if (status != MBX_OK) return fail(c, status, "export");

@@ -91,7 +91,21 @@ def main():
     ok = ok and share > 0.01
     if not ok:
         print('FAILED: expected nodes=5 frames=%d drawn>0.01 and a screenshot with >1 %% model pixels' % rows)
-    return 0 if ok else 1
+        return 1
+    # The default hulls, shown through view.html#collision: every moving
+    # part's hull found in the scene, and more of the screen covered (the
+    # hulls wrap the meshes, semi-transparent) than without them.
+    subprocess.run([mbx, 'view'] + arm + ['--collision', 'hulls', '-o', work], check=True)
+    dom = subprocess.run(flags + ['--dump-dom', page + '#collision'], capture_output=True, text=True, timeout=240).stdout
+    start = dom.find('id="mbx-status"')
+    status = dom[dom.find('>', start) + 1:dom.find('</div>', start)] if start >= 0 else '(no status element)'
+    print('page status with collision shapes shown:', status)
+    shown = dict(item.split('=') for item in status.split() if '=' in item)
+    if not (shown.get('nodes') == '5' and shown.get('collision') == '5' and
+            float(shown.get('drawn', 0)) > float(fields['drawn'])):
+        print('FAILED: expected nodes=5 collision=5 and drawn above %s' % fields['drawn'])
+        return 1
+    return 0
 
 
 if __name__ == '__main__':

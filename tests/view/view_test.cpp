@@ -12,6 +12,7 @@
 
 #include "core/finding.h"
 #include "export_fixture.h"
+#include "mechatronics/contact_description.h"
 #include "mesh/mesh_export.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
@@ -160,4 +161,49 @@ TEST_CASE("view: the page carries three.js, the scene and the motion, and fetche
     }
     CHECK_THROWS_WITH_AS(pose_trajectory(model, dir + "/back.csv"), doctest::Contains("back.csv:4: time does not increase"), Error);
     std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("view: the page holds the collision shapes behind a checkbox, only when the model has them") {
+    auto t = arm();
+    {
+        ExportModel plain = xtest::export_model(*t);
+        const std::string page = view_files(plain, "").front().contents;
+        CHECK(page.find("id=\"mbx-collision\"") == std::string::npos);
+        CHECK(page.find("const MBX_COLLISION = [];") != std::string::npos);
+    }
+    // The default hulls: one per moving part with a mesh.
+    ContactSpec spec;
+    CollisionSpec hulls;
+    hulls.body = "*", hulls.kind = CollisionKind::Hull;
+    spec.shapes.push_back(hulls);
+    std::vector<LibraryError> errors;
+    ExportSettings settings;
+    settings.contact = resolve_contact(spec, *t->mechanism, errors);
+    REQUIRE(errors.empty());
+    REQUIRE(settings.contact.shapes.size() >= 4);
+    ExportModel model = xtest::export_model(*t, settings);
+    const std::string page = view_files(model, "").front().contents;
+    CHECK(page.find("<input type=\"checkbox\" id=\"mbx-collision\">") != std::string::npos);
+    // The scene inlined is the scene export with its collision shapes.
+    OutputFiles scene;
+    export_scene(model, scene, true);
+    const size_t at = page.find("const MBX_SCENE = \"");
+    REQUIRE(at != std::string::npos);
+    const size_t from = at + 19, to = page.find('"', from);
+    const std::string glb = decode_base64(page.substr(from, to - from));
+    CHECK(glb == scene.front().contents);
+    // Every shape listed for the toggle, and a node of that name in the glTF.
+    const size_t list = page.find("const MBX_COLLISION = [");
+    REQUIRE(list != std::string::npos);
+    const std::string names = page.substr(list, page.find("];", list) - list);
+    size_t listed = 0;
+    for (const ResolvedCollision& c : settings.contact.shapes) {
+        std::string node = "collision_";
+        for (char ch : c.name) node += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+        CAPTURE(node);
+        CHECK(names.find("\"" + node + "\"") != std::string::npos);
+        CHECK(glb.find("\"name\":\"" + node + "\"") != std::string::npos);
+        ++listed;
+    }
+    CHECK(listed == settings.contact.shapes.size());
 }

@@ -557,7 +557,10 @@ typedef enum mbx_export_format {
     MBX_EXPORT_MJCF = 1u << 1,     /* mjcf/<name>.xml: MuJoCo, loops closed by equality constraints */
     MBX_EXPORT_URDF = 1u << 2,     /* urdf/<name>.urdf: spanning tree (+ cut_joints.json with loops) */
     MBX_EXPORT_MESHES = 1u << 3,   /* meshes/<body>.<ext> and scene.glb */
-    MBX_EXPORT_ALL = 0xFu
+    MBX_EXPORT_ALL = 0xFu,
+    /* ABI 9, a modifier outside ALL (opt-in): scene.glb also draws the described collision shapes as
+       semi-transparent nodes "collision_<shape>" under their bodies' nodes */
+    MBX_EXPORT_SCENE_COLLISION = 1u << 4
 } mbx_export_format;
 
 typedef enum mbx_mesh_format {

@@ -38,6 +38,8 @@ MBX_API mbx_status mbx_mechanism_export(mbx_context* context, mbx_mechanism* mec
             if (MBX_FIELD_FITS(options, mbx_export_options, stop_time) && options->stop_time > 0)
                 settings.stop_time = options->stop_time;
         }
+        settings.scene_collision = formats & MBX_EXPORT_SCENE_COLLISION;
+        formats &= ~uint32_t(MBX_EXPORT_SCENE_COLLISION);
         if (formats & ~uint32_t(MBX_EXPORT_ALL))
             throw Error(MBX_ERROR_INVALID_ARGUMENT, {}, "unknown export format bits " + std::to_string(formats));
         Mechanism& m = *mechanism->model;
