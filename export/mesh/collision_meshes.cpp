@@ -86,7 +86,7 @@ Mesh primitive_mesh(const CollisionSpec& s) {
     return {};
 }
 
-std::vector<CollisionMesh> collision_meshes(ExportModel& model, const std::string& format) {
+std::vector<CollisionMesh> collision_meshes(ExportModel& model, const std::string& format, bool hulls_only) {
     const ResolvedContact& rc = model.settings().contact;
     const Mechanism& m = model.mechanism();
     std::vector<CollisionMesh> out;
@@ -97,9 +97,10 @@ std::vector<CollisionMesh> collision_meshes(ExportModel& model, const std::strin
         const ResolvedCollision& r = rc.shapes[i];
         CollisionMesh c;
         c.shape = int(i), c.body = r.body, c.pose = r.pose;
+        if (hulls_only && r.spec.kind != CollisionKind::Hull) continue;
         if (r.spec.kind == CollisionKind::Plane) {
             model.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(r.name),
-                       format + ": plane '" + r.name + "' is unbounded and not drawn");
+                       format + ": plane '" + r.name + "' is unbounded and left out");
             continue;
         }
         if (r.spec.kind == CollisionKind::Hull) {

@@ -24,8 +24,9 @@ struct CollisionMesh {
 };
 
 // Every shape that has a surface: planes are unbounded and left out, and so
-// is a hull whose part has no mesh (both noted, naming `format`).
-std::vector<CollisionMesh> collision_meshes(ExportModel& model, const std::string& format);
+// is a hull whose part has no mesh (both noted, naming `format`). With
+// `hulls_only`, the primitives are left out too (without a note).
+std::vector<CollisionMesh> collision_meshes(ExportModel& model, const std::string& format, bool hulls_only = false);
 
 // The triangles of a shape of `kind` with the spec's sizes (not for planes or hulls).
 Mesh primitive_mesh(const CollisionSpec& spec);

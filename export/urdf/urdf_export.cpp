@@ -5,6 +5,8 @@
 #include <pugixml.hpp>
 
 #include "common/number_text.h"
+#include "mesh/collision_meshes.h"
+#include "mesh/mesh_export.h"
 #include "urdf/cut_joints_sidecar.h"
 #include "urdf/urdf_layout.h"
 
@@ -41,6 +43,56 @@ void write_inertial(pugi::xml_node link, const RigidBody& body, const Pose& link
 // ros2_control and Gazebo read), with the reduction, and the rotor inertia in
 // Drake's extension: Drake adds rotor_inertia * gear_ratio^2 to the joint,
 // which is the drive's armature when rotor_inertia is armature / ratio^2.
+// A hull's mesh file (the hull in its body's frame), by shape index.
+struct UrdfHull {
+    int shape = -1;
+    std::string path;  // relative to the output directory
+};
+
+// The collision shapes on `body`, each placed by its pose in the body
+// frame taken into the link frame. URDF has no capsule: it becomes the
+// cylinder and the two spheres whose union it is (exact). Planes have no
+// URDF geometry (noted in export_urdf).
+void write_collisions(pugi::xml_node link, const ExportModel& model, int body, const Pose& link_in_body,
+                      const std::vector<UrdfHull>& hulls) {
+    const ResolvedContact& rc = model.settings().contact;
+    const Pose body_in_link = link_in_body.inverse();
+    auto element = [&](const std::string& name, const Pose& pose_in_body) {
+        pugi::xml_node c = link.append_child("collision");
+        c.append_attribute("name") = name.c_str();
+        set_origin(c, body_in_link * pose_in_body);
+        return c.append_child("geometry");
+    };
+    for (size_t i = 0; i < rc.shapes.size(); ++i) {
+        const ResolvedCollision& r = rc.shapes[i];
+        if (r.body != body) continue;
+        const CollisionSpec& s = r.spec;
+        switch (s.kind) {
+        case CollisionKind::Sphere: set_number(element(r.name, r.pose).append_child("sphere"), "radius", s.radius); break;
+        case CollisionKind::Box:
+            element(r.name, r.pose).append_child("box").append_attribute("size") = spaced_text(s.size).c_str();
+            break;
+        case CollisionKind::Cylinder:
+        case CollisionKind::Capsule: {
+            pugi::xml_node cyl = element(r.name, r.pose).append_child("cylinder");
+            set_number(cyl, "radius", s.radius), set_number(cyl, "length", s.length);
+            if (s.kind == CollisionKind::Capsule)
+                for (const double end : {-0.5, 0.5}) {
+                    const Pose cap = r.pose * Pose{Mat3::Identity(), Vec3(0, 0, end * s.length)};
+                    set_number(element(r.name + (end < 0 ? "_cap0" : "_cap1"), cap).append_child("sphere"), "radius", s.radius);
+                }
+            break;
+        }
+        case CollisionKind::Hull:
+            for (const UrdfHull& h : hulls)
+                if (h.shape == int(i))
+                    element(r.name, r.pose).append_child("mesh").append_attribute("filename") = ("../" + h.path).c_str();
+            break;
+        case CollisionKind::Plane: break;
+        }
+    }
+}
+
 void write_transmissions(pugi::xml_node robot, const ExportModel& model, const UrdfLayout& L) {
     const Mechanism& m = model.mechanism();
     for (size_t j = 0; j < m.joints.size(); ++j) {
@@ -61,7 +113,7 @@ void write_transmissions(pugi::xml_node robot, const ExportModel& model, const U
     }
 }
 
-std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
+std::string urdf_text(ExportModel& model, const UrdfLayout& L, const std::vector<UrdfHull>& hulls) {
     const Mechanism& m = model.mechanism();
     const mbx_mesh_format mesh_format = urdf_mesh_format(model.settings().mesh_format);
     pugi::xml_document doc;
@@ -93,6 +145,7 @@ std::string urdf_text(ExportModel& model, const UrdfLayout& L) {
                 const std::string file = "../" + model.mesh_path(link.body, mesh_format);
                 v.append_child("geometry").append_child("mesh").append_attribute("filename") = file.c_str();
             }
+            write_collisions(xl, model, link.body, link_in_body, hulls);
         }
         if (joint_of_link[l] < 0) continue;
         const UrdfJoint& u = L.joints[size_t(joint_of_link[l])];
@@ -184,7 +237,24 @@ void add_notes(ExportModel& model, const UrdfLayout& L) {
 
 void export_urdf(ExportModel& model, OutputFiles& out) {
     const UrdfLayout layout = plan_urdf(model);
-    out.push_back({"urdf/" + layout.robot + ".urdf", urdf_text(model, layout), false});
+    // Hulls as binary STL files beside the body meshes, computed as the
+    // simulator computes them (collision_meshes notes the planes it leaves
+    // out and hulls without a mesh).
+    std::vector<UrdfHull> hulls;
+    for (const CollisionMesh& c : collision_meshes(model, "URDF", true)) {
+        const std::string path = "meshes/collision/" + c.node + ".stl";
+        out.push_back({path, encode_mesh({c.mesh}, c.node, MBX_MESH_STL), false});
+        hulls.push_back({c.shape, path});
+    }
+    for (const ResolvedCollision& r : model.settings().contact.shapes) {
+        if (r.spec.kind == CollisionKind::Plane)
+            model.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(r.name),
+                       "URDF: plane '" + r.name + "' has no URDF geometry and is left out");
+        if (r.spec.kind == CollisionKind::Capsule)
+            model.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(r.name),
+                       "URDF: capsule '" + r.name + "' is written as its cylinder and two end spheres (URDF has no capsule)");
+    }
+    out.push_back({"urdf/" + layout.robot + ".urdf", urdf_text(model, layout, hulls), false});
     std::string sidecar = cut_joints_json(model, layout);
     if (!sidecar.empty()) out.push_back({"urdf/" + layout.robot + ".cut_joints.json", std::move(sidecar), false});
     add_notes(model, layout);
