@@ -6,6 +6,7 @@
 #include "calibration/body_quantities.h"
 #include "calibration/model_extension.h"
 #include "calibration/replay.h"
+#include "calibration/transmission_stage.h"
 #include "core/finding.h"
 
 namespace mbx::calibration {
@@ -133,9 +134,13 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
                     e.path + ": calibration needs at least one fit and one validation record");
 
     report(options, "identify", 0);
-    const RegressionRows fit = regression_rows(base_model, fit_records, options.identify);
-    const RegressionRows validation = regression_rows(base_model, validation_records, options.identify, &fit.weight);
-    out.identification = identify(base_model, fit, validation, options.identify);
+    // Inverse dynamics sees a transmission the model has in its rigid limit.
+    const sim::Model rigid = rigid_limit(base_model);
+    const RegressionRows fit = regression_rows(rigid, fit_records, options.identify);
+    const RegressionRows validation = regression_rows(rigid, validation_records, options.identify, &fit.weight);
+    out.identification = identify(rigid, fit, validation, options.identify);
+    report(options, "identify", 0.5);
+    out.identification = transmission_stage(base_model, fit_records, validation_records, out.identification);
     const Identification& id = out.identification;
 
     // Replays before any cause and after each: the simulated gain of every step.

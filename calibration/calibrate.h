@@ -5,6 +5,7 @@
 // extended description file need. `mbx calibrate` and mbx_calibrate call it.
 #pragma once
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,9 @@ struct JointUpdate {
     std::string name;
     bool linear = false;  // prismatic
     sim::JointDynamics before, after;
+    // An elastic transmission (the description's <transmission>): as the
+    // model had it and after calibration (compliance), none when absent.
+    std::optional<sim::Transmission> transmission_before, transmission_after;
     std::vector<std::string> causes;  // the named causes it carries
 };
 

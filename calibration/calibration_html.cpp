@@ -375,6 +375,12 @@ void update_table(std::string& h, const CalibrationResult& r) {
             add("stiffness", d.stiffness, std::string(e) + (u.linear ? "/m" : "/rad"));
             add("rest", d.rest, u.linear ? "m" : "rad");
             add("armature", d.armature, u.linear ? "kg" : "kg m²");
+            if (const auto& t = u.transmission_after) {
+                add("transmission stiffness", t->stiffness, std::string(e) + (u.linear ? "/m" : "/rad"));
+                add("transmission damping", t->damping, std::string(e) + (u.linear ? " s/m" : " s/rad"));
+                add("motor inertia", t->motor_inertia, u.linear ? "kg" : "kg m²");
+                add("backlash", t->backlash, u.linear ? "m" : "rad");
+            }
             std::string causes;
             for (const std::string& c : u.causes) causes += (causes.empty() ? "" : ", ") + c;
             h += "<tr><td>" + esc(u.name) + " <small>(" + esc(u.constraint_id) + ")</small></td><td>" + esc(causes) +

@@ -142,6 +142,14 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
         joint_dynamics(w, u.before);
         w.key("after");
         joint_dynamics(w, u.after);
+        if (u.transmission_after) {
+            // The elastic transmission (compliance), as the <transmission> child holds it.
+            const sim::Transmission& t = *u.transmission_after;
+            w.key("transmission").begin_object(JsonWriter::Layout::Inline);
+            w.member("stiffness", t.stiffness).member("damping", t.damping).member("motor_inertia", t.motor_inertia);
+            w.member("backlash", t.backlash);
+            w.end_object();
+        }
         w.end_object();
     }
     w.end_array();

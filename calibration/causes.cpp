@@ -95,6 +95,10 @@ Eigen::MatrixXd Candidate::columns(const RegressionRows& rows) const {
             put(s, 0, a, 1.0);
         } else if (cause == "armature") {
             put(s, 0, a, rows.qdd(s, dof));
+        } else if (cause == "compliance" && parameters.size() == 3) {
+            // The rigid limit: the motor inertia is an armature; stiffness
+            // and damping have no column (the simulation fit finds them).
+            put(s, 2, a, rows.qdd(s, dof));
         } else if (cause == "asymmetric_friction") {
             // c sgn + dc |sgn| is c + dc one way and c - dc the other; likewise for damping.
             put(s, 0, a, law[s]);

@@ -120,6 +120,28 @@ void write_joint(pugi::xml_node n, const sim::JointDynamics& d, const std::strin
     set_or_remove(n, "armature", d.armature);
 }
 
+// Writes an elastic transmission as the <joint>'s <transmission> child
+// (replacing one it had): coefficients per rad or m, the backlash in the
+// joint's unit.
+void write_transmission(pugi::xml_node joint, const sim::Transmission& t, const std::string& file, int line) {
+    const std::string unit = joint.attribute("unit").as_string();
+    double f = 1;
+    if (!unit_factor(unit, f)) fail(file, line, "unit '" + unit + "' is not rad, deg, m or mm");
+    for (double v : {t.stiffness, t.damping, t.motor_inertia, t.backlash})
+        if (!std::isfinite(v) || v < 0) fail(file, line, "a calibrated transmission value is not finite and positive");
+    pugi::xml_node n = joint.child("transmission");
+    if (!n) {
+        // A self-closed joint opens: its transmission on a line of its own.
+        joint.append_child(pugi::node_pcdata).set_value("\n    ");
+        n = joint.append_child("transmission");
+        joint.append_child(pugi::node_pcdata).set_value("\n  ");
+    }
+    set_always(n, "stiffness", t.stiffness);
+    set_or_remove(n, "damping", t.damping);
+    set_always(n, "motor_inertia", t.motor_inertia);
+    set_or_remove(n, "backlash", t.backlash / f);
+}
+
 // What the file's comment says mbx calibrate changed.
 std::string summary(const sim::Model& model, const CalibrationResult& r, bool described,
                     const std::vector<std::string>& notes) {
@@ -225,6 +247,7 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
             last_joint = n;
         }
         write_joint(n, u.after, file, 0);
+        if (u.transmission_after) write_transmission(n, *u.transmission_after, file, 0);
     }
     for (const DriveUpdate& d : r.drives) {
         const Drive& drive = model.drives[size_t(d.drive)];
@@ -267,6 +290,8 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
         }
         set_always(n, "mass_scale", scale);
     }
+
+    write_contact_update(root, r.contact, file);
 
     comment.set_value(summary(model, r, described, notes).c_str());
 

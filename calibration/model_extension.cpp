@@ -37,6 +37,9 @@ JointUpdate& update_of(ModelExtension& ext, const Mechanism& mech, const sim::Bu
     const auto it = base.joint_dynamics.find(j.source);
     if (it != base.joint_dynamics.end()) u.before = it->second;
     u.after = u.before;
+    const auto t = base.transmissions.find(j.source);
+    if (t != base.transmissions.end()) u.transmission_before = t->second;
+    u.transmission_after = u.transmission_before;
     ext.joints.push_back(u);
     return ext.joints.back();
 }
@@ -185,13 +188,34 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
                 unwritten("a negative stiffness (an effort that pushes away from the rest position) is no spring: "
                           "the description file cannot hold it");
             }
+        } else if (cause == "compliance") {
+            // The motor side the rigid model saw as armature, now an inertia
+            // of its own behind a spring and damper.
+            sim::Transmission t;
+            t.stiffness = parameter(c, "stiffness");
+            t.damping = parameter(c, "damping");
+            t.motor_inertia = parameter(c, "motor_inertia");
+            if (!(t.stiffness > 0 && t.motor_inertia > 0 && t.damping >= 0)) {
+                u.causes.pop_back();
+                unwritten("the fitted transmission is not physical (stiffness and motor inertia must be positive)");
+                continue;
+            }
+            const int k = drive_of(dof);
+            if (k >= 0 && model.drives[size_t(k)].armature > 0)
+                ext.warnings.push_back("the rotor inertia of drive '" + model.drives[size_t(k)].name + "' (" +
+                                       number(model.drives[size_t(k)].armature) + ") moves to the motor side of the "
+                                       "transmission on joint '" + u.name + "', on top of the fitted motor inertia");
+            u.transmission_after = t;
         } else {
             u.causes.pop_back();
             unwritten("mbx has no model extension for " + cause + " yet");
         }
     }
     // Joints whose dynamics the causes changed take them into the build.
-    for (const JointUpdate& u : ext.joints) ext.options.joint_dynamics[u.mechanism_joint] = u.after;
+    for (const JointUpdate& u : ext.joints) {
+        ext.options.joint_dynamics[u.mechanism_joint] = u.after;
+        if (u.transmission_after) ext.options.transmissions[u.mechanism_joint] = *u.transmission_after;
+    }
     return ext;
 }
 

@@ -8,6 +8,7 @@
 #include "calibration/closed_chain.h"
 #include "calibration/filters.h"
 #include "core/finding.h"
+#include "sim/transmission.h"
 #include "sim/dynamics.h"
 #include "sim/integrator.h"
 #include "sim/joint_forces.h"
@@ -109,6 +110,8 @@ void measured_state(const sim::Model& m, sim::Data& d, const Record& r, size_t k
         fixed.push_back({s.joint, 0, true, qd});
     }
     sim::initial_state(m, d, fixed);
+    // The encoders of joints with an elastic transmission read the motor.
+    sim::start_from_motor_side(m, d);
     set_measured_free_bodies(m, d, r, k);
     d.time = r.t[k];
 }
@@ -117,8 +120,8 @@ double simulated_value(const sim::Model& m, const sim::Data& d, const ComparedSi
                        const BodyKinematics& bodies, const Record& r, size_t k) {
     if (c.body >= 0) return bodies.value(c.quantity, c.body, c.component, c.point, &r, k);
     switch (c.quantity) {
-    case Quantity::Position: return d.q[c.q_index] + a.sensor_offset[size_t(c.dof)];
-    case Quantity::Velocity: return d.v[c.dof];
+    case Quantity::Position: return sim::sensed_position(m, d, c.dof) + a.sensor_offset[size_t(c.dof)];
+    case Quantity::Velocity: return sim::sensed_rate(m, d, c.dof);
     case Quantity::Effort:
         // The recorded effort is what the drive was told to give; the joint got gain times it.
         return d.drives.signals[size_t(c.drive)].effort / a.effort_gain[size_t(c.dof)];
@@ -247,6 +250,9 @@ void inverse_effort(const sim::Model& m, const Record& r, const std::vector<Comp
         d.v = qd;
         sim::update_kinematics(m, d);
         sim::inverse_dynamics(m, d, qdd, tau);
+        // An elastic transmission in its rigid limit (the link at the
+        // measured motor position): its motor inertia is one more armature.
+        for (const sim::Transmission& t : m.transmissions) tau[t.dof] += t.motor_inertia * qdd[t.dof];
         sim::passive_forces(m, d, sim::FrictionLaw::Regularised);
         tau -= d.qfrc_passive;
         if (chain.active()) {
