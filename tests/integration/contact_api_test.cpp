@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -128,6 +130,37 @@ TEST_CASE("contact API: a box from its part's mesh hull rests on the ground at m
         CHECK(near(depth, mass * kG / (4 * k), 0.01));
         CHECK(std::abs(q[4]) + std::abs(q[5]) + std::abs(q[6]) < 1e-9);  // level: the hull's four corners carry it alike
         CHECK(std::abs(v[2]) < 1e-6);
+    }
+}
+
+TEST_CASE("contact API: URDF gets <collision>, scene.glb draws the shapes only with MBX_EXPORT_SCENE_COLLISION") {
+    Run run = translate(free_part("box", 2, 0.1, 0.1));
+    Description d;
+    TempDir dir("contact_export");
+    REQUIRE(attach(run, d, dir,
+                   "<mechatronics version=\"1\"><collision body=\"world\" shape=\"plane\"/>"
+                   "<collision body=\"*\" shape=\"hull\"/></mechatronics>") == MBX_OK);
+    auto slurp = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    for (const uint32_t formats : {uint32_t(MBX_EXPORT_MESHES | MBX_EXPORT_URDF),
+                                   uint32_t(MBX_EXPORT_MESHES | MBX_EXPORT_URDF | MBX_EXPORT_SCENE_COLLISION),
+                                   uint32_t(MBX_EXPORT_SCENE_COLLISION)}) {  // the modifier alone: every format
+        CAPTURE(formats);
+        TempDir out("contact_export_out");
+        mbx_export_options o{};
+        o.struct_size = sizeof o;
+        o.formats = formats;
+        o.model_name = "box";
+        REQUIRE(api().mechanism_export(run.context.get(), run.get(), &o, out.path.string().c_str()) == MBX_OK);
+        const bool drawn = formats & MBX_EXPORT_SCENE_COLLISION;
+        CHECK((slurp(out.file("scene.glb")).find("\"name\":\"collision_Part_hull\"") != std::string::npos) == drawn);
+        const std::string urdf = slurp(out.file("urdf/box.urdf"));
+        CHECK(urdf.find("<collision name=\"Part_hull\">") != std::string::npos);
+        CHECK(urdf.find("../meshes/collision/collision_Part_hull.stl") != std::string::npos);
+        CHECK(std::filesystem::exists(out.file("meshes/collision/collision_Part_hull.stl")));
+        CHECK(std::filesystem::exists(out.file("mjcf/box.xml")) == (formats == MBX_EXPORT_SCENE_COLLISION));
     }
 }
 
