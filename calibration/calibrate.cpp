@@ -132,6 +132,11 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     if (fit_records.empty() || validation_records.empty())
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("experiment"),
                     e.path + ": calibration needs at least one fit and one validation record");
+    if (contact_experiment(e, base_model, records, options.contact)) {
+        run_contact_stage(base_model, e, records, options.contact, options, out);
+        out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        return out;
+    }
 
     report(options, "identify", 0);
     // Inverse dynamics sees a transmission the model has in its rigid limit.

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "calibration/contact_stage.h"
 #include "calibration/identify.h"
 #include "calibration/records.h"
 #include "sim/build_model.h"
@@ -112,6 +113,9 @@ struct CalibrateOptions {
     // return false to cancel (mbx::Error MBX_ERROR_CANCELLED).
     std::function<bool(const char*, double)> progress;
     size_t plot_points = 1500;  // per trace and residual cloud
+    // The description's collision shapes and contact materials: a free
+    // experiment on a measured free body runs the contact stage on them.
+    ContactInput contact;
 };
 
 struct CalibrationResult {
@@ -127,6 +131,7 @@ struct CalibrationResult {
     std::vector<BodyUpdate> bodies;
     std::vector<UnwrittenCause> unwritten;
     std::vector<std::string> warnings;
+    ContactStageResult contact;  // ran: the contact stage instead of identification
     double wall_time = 0;  // s
 
     const StepErrors& baseline() const { return steps.front(); }

@@ -323,6 +323,33 @@ void signal_table(std::string& h, const sim::Model& model, const CalibrationResu
     h += "</table>\n";
 }
 
+std::string pose_text(const PoseError& e) {
+    return num(e.position) + " % of size, " + num(e.rotation) + " deg";
+}
+
+// The contact stage's causes, parameters and pose errors.
+void contact_table(std::string& h, const sim::Model& model, const ContactStageResult& c) {
+    h += "<p>Contact of body " + esc(model.bodies[size_t(c.body)].name) + " (" + std::to_string(c.fit_trials.size()) +
+         " fit and " + std::to_string(c.validation_trials.size()) + " validation trials, " +
+         std::to_string(c.fit.rollouts) + " rollouts): validation error before " + pose_text(c.fit.baseline_validation) +
+         ".</p>\n";
+    if (c.fit.steps.empty()) h += "<p>No contact cause lowered the validation error enough to be named.</p>\n";
+    else {
+        h += "<table><tr><th>step</th><th>cause</th><th>parameters (± standard error)</th><th>fit</th><th>validation</th>"
+             "<th>evidence</th></tr>\n";
+        for (size_t i = 0; i < c.fit.steps.size(); ++i) {
+            const ContactStep& s = c.fit.steps[i];
+            std::string p;
+            for (const FittedValue& v : s.parameters)
+                p += esc(v.name) + " = " + num(v.value) + " ± " + num(v.standard_error) + " " + esc(v.unit) + "<br>";
+            h += "<tr><td class=n>" + std::to_string(i + 1) + "</td><td>" + esc(s.cause) + "</td><td>" + p + "</td><td>" +
+                 pose_text(s.fit) + "</td><td>" + pose_text(s.validation) + "</td><td>" + esc(s.evidence) + "</td></tr>\n";
+        }
+        h += "</table>\n";
+    }
+    for (const std::string& n : c.fit.notes) h += "<p>" + esc(n) + "</p>\n";
+}
+
 void cause_table(std::string& h, const sim::Model& model, const CalibrationResult& r) {
     const Identification& id = r.identification;
     if (id.causes.empty()) {
@@ -430,7 +457,8 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
     signal_table(h, model, r);
 
     h += "<h2>Causes</h2>\n";
-    cause_table(h, model, r);
+    if (r.contact.ran) contact_table(h, model, r.contact);
+    else cause_table(h, model, r);
     update_table(h, r);
 
     if (!r.traces.empty()) h += "<h2>Compared signals</h2>\n";

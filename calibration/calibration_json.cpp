@@ -37,6 +37,62 @@ void signal_subject(JsonWriter& w, const sim::Model& model, int joint, int body,
     }
 }
 
+void pose_error(JsonWriter& w, const char* key, const PoseError& e) {
+    w.key(key).begin_object(JsonWriter::Layout::Inline);
+    w.member("position_percent_of_size", e.position).member("rotation_deg", e.rotation).member("score", e.score());
+    w.member("samples", e.samples).member("diverged", e.diverged);
+    w.end_object();
+}
+
+void contact_settings(JsonWriter& w, const char* key, const ContactModel& m) {
+    w.key(key).begin_object(JsonWriter::Layout::Inline);
+    w.member("stiffness", m.settings.normal.stiffness).member("exponent", m.settings.normal.exponent);
+    w.member("damping", m.settings.normal.damping);
+    w.member("mu_static", m.settings.friction.mu_static).member("mu_kinetic", m.settings.friction.mu_kinetic);
+    w.member("ground_offset", m.ground_offset);
+    w.end_object();
+}
+
+// The contact stage: the measured body, the material pair, the causes named
+// in order with their parameters and pose errors, the model before and after.
+void contact_section(JsonWriter& w, const sim::Model& model, const ContactStageResult& c) {
+    w.key("contact").begin_object();
+    w.key("body").begin_object(JsonWriter::Layout::Inline);
+    w.member("id", model.bodies[size_t(c.body)].id).member("name", model.bodies[size_t(c.body)].name);
+    w.end_object();
+    w.key("materials").begin_array(JsonWriter::Layout::Inline);
+    w.value(c.material_a).value(c.material_b);
+    w.end_array();
+    w.member("integrator_step", c.integrator_step).member("rollouts", c.fit.rollouts);
+    w.member("fit_trials", c.fit_trials.size()).member("validation_trials", c.validation_trials.size());
+    pose_error(w, "baseline_fit", c.fit.baseline_fit);
+    pose_error(w, "baseline_validation", c.fit.baseline_validation);
+    w.key("causes").begin_array();
+    for (const ContactStep& s : c.fit.steps) {
+        w.begin_object();
+        w.member("cause", s.cause);
+        w.key("parameters").begin_array();
+        for (const FittedValue& v : s.parameters) {
+            w.begin_object(JsonWriter::Layout::Inline);
+            w.member("name", v.name).member("value", v.value).member("std_error", v.standard_error).member("unit", v.unit);
+            if (!v.method.empty()) w.member("method", v.method);
+            w.end_object();
+        }
+        w.end_array();
+        pose_error(w, "fit", s.fit);
+        pose_error(w, "validation", s.validation);
+        w.member("evidence", s.evidence);
+        w.end_object();
+    }
+    w.end_array();
+    w.key("notes").begin_array();
+    for (const std::string& n : c.fit.notes) w.value(n);
+    w.end_array();
+    contact_settings(w, "before", c.start);
+    contact_settings(w, "after", c.fit.model);
+    w.end_object();
+}
+
 // One step's errors: the inverse-dynamics ones and every simulated signal's.
 void errors(JsonWriter& w, const sim::Model& model, const CalibrationResult& r, const StepErrors& s) {
     w.begin_object();
@@ -172,6 +228,8 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
     }
     w.end_array();
     w.end_object();
+
+    if (r.contact.ran) contact_section(w, model, r.contact);
 
     w.key("warnings").begin_array();
     // The calibration's own warnings, then the identification's it does not

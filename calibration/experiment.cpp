@@ -122,7 +122,7 @@ public:
             const std::string name = n.name();
             const int line = lines_.line(n);
             if (name == "record") {
-                attributes(n, {"file", "role", "start", "stop"});
+                attributes(n, {"file", "role", "start", "stop", "trials"});
                 RecordSpec r;
                 r.line = line;
                 const std::string file = n.attribute("file").value();
@@ -138,7 +138,16 @@ public:
                 r.start = optional_number(n, "start", -1);
                 r.stop = optional_number(n, "stop", -1);
                 if (r.start >= 0 && r.stop >= 0 && !(r.stop > r.start)) fail(line, "<record> stop must be after start");
+                if (n.attribute("trials")) {
+                    r.trials = trial_list(n);
+                    trials_used_line = line;
+                }
                 exp_.records.push_back(r);
+            } else if (name == "trials") {
+                attributes(n, {"column"});
+                if (!exp_.trial_column.empty()) fail(line, "a second <trials>");
+                exp_.trial_column = n.attribute("column").value();
+                if (exp_.trial_column.empty()) fail(line, "<trials> needs a column (the trial id of each row)");
             } else if (name == "time") {
                 attributes(n, {"column", "unit", "scale"});
                 if (have_time) fail(line, "a second <time>");
@@ -210,6 +219,8 @@ public:
                 fail(line, "unknown element <" + name + ">");
             }
         }
+        if (trials_used_line && exp_.trial_column.empty())
+            fail(trials_used_line, "<record trials=...> needs <trials column=...> (which column tells the trials apart)");
         const int root_line = lines_.line(root);
         if (!have_time) fail(root_line, "no <time column=...>");
         bool fit = false, validation = false;
@@ -259,6 +270,34 @@ private:
         const double v = number(n, attr, fallback);
         if (v < 0) fail(lines_.line(n), std::string(attr) + " must not be negative");
         return v;
+    }
+    // "0-569/50 3 7": ids, ranges a-b and ranges with a step a-b/s.
+    std::vector<long long> trial_list(const pugi::xml_node& n) {
+        std::vector<long long> out;
+        std::istringstream in(n.attribute("trials").value());
+        std::string word;
+        auto bad = [&](const std::string& w) {
+            fail(lines_.line(n), "trials: '" + w + "' is not a trial id, a range a-b or a range with a step a-b/s");
+        };
+        while (in >> word) {
+            long long a = 0, b = 0, step = 1;
+            char dash = 0, slash = 0;
+            std::istringstream w(word);
+            if (!(w >> a)) { bad(word); continue; }
+            b = a;
+            if (w >> dash) {
+                if (dash != '-' || !(w >> b)) { bad(word); continue; }
+                if (w >> slash) {
+                    if (slash != '/' || !(w >> step) || step <= 0) { bad(word); continue; }
+                }
+                std::string rest;
+                if (w >> rest || b < a) { bad(word); continue; }
+            }
+            if ((b - a) / step > 1000000) { bad(word); continue; }
+            for (long long k = a; k <= b; k += step) out.push_back(k);
+        }
+        if (out.empty()) fail(lines_.line(n), "trials lists no trial");
+        return out;
     }
     void subject(const pugi::xml_node& n, std::string& joint, std::string& body) {
         joint = n.attribute("joint").value();
@@ -333,6 +372,7 @@ private:
     Experiment exp_;
     std::string errors_;
     int first_line_ = 0;
+    int trials_used_line = 0;
 };
 
 }  // namespace

@@ -22,6 +22,9 @@ struct RecordSpec {
     std::string path;  // resolved against the experiment file's folder
     Role role = Role::Fit;
     double start = -1, stop = -1;  // s on the record's time; < 0: open
+    // With <trials column=...>: the trial ids of the file this record takes,
+    // each one record (empty: every trial in the file).
+    std::vector<long long> trials;
     int line = 0;
 };
 
@@ -59,6 +62,9 @@ struct Experiment {
     std::vector<RecordSpec> records;
     std::string time_column;
     double time_factor = 1;
+    // <trials column=...>: a record file holds several trials (tosses,
+    // drops) told apart by this column; each is a record of its own.
+    std::string trial_column;
     std::vector<ColumnSpec> columns;
     DriveMode mode = DriveMode::ClosedLoop;
     double horizon = 0.5;  // s, effort mode's forward-simulation windows

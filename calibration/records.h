@@ -57,6 +57,9 @@ struct Record {
 
 // Below this a record (after its window) cannot tell the causes apart.
 constexpr size_t kMinimumSamples = 50;
+// A trial of a record file with <trials> (a toss) is fitted by rollouts of
+// the whole trial, which a few samples already constrain.
+constexpr size_t kMinimumTrialSamples = 10;
 
 // The 1-dof joint a <column> or <compare> names (CAD constraint id or report
 // name); throws mbx::Error naming file and line for no joint, an ambiguous

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "calibration/calibration_files.h"
+#include "capi/contact_build.h"
 #include "capi/guard.h"
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
@@ -57,6 +58,16 @@ MBX_API mbx_status mbx_calibrate(mbx_context* context, const mbx_mechanism* mech
             mbx_progress_fn fn = context->progress;
             void* user = context->progress_user;
             co.progress = [fn, user](const char* stage, double fraction) { return fn(user, stage, fraction) == 0; };
+        }
+        // The description's collision shapes and materials, for the contact stage.
+        if (!mechanism->contact.empty()) {
+            mbx_sim_model contact_model;
+            contact_model.model = sim::build_model(*mechanism->model, build);
+            build_contact(*mechanism, contact_model);
+            co.contact.shapes = contact_model.shapes;
+            co.contact.default_settings = contact_model.contact_default;
+            co.contact.pairs = contact_model.contact_pairs;
+            co.contact.materials = mechanism->contact.materials;
         }
         auto handle = std::make_unique<mbx_calibration>();
         handle->result = calibrate(*mechanism->model, build, experiment, co);
