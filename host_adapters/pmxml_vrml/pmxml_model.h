@@ -91,6 +91,10 @@ struct PmxmlModel {
     }
 };
 
+// The first field in which two models differ, "" if none (bitwise for
+// numbers): what reading a file by parts and as one DOM must agree on.
+std::string first_difference(const PmxmlModel& a, const PmxmlModel& b);
+
 // Rotation closest to `r` (polar decomposition), for computing with rounded
 // matrices; `r` must have a positive determinant.
 Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& r);

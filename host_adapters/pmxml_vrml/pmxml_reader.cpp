@@ -10,10 +10,17 @@
 #include <memory>
 #include <optional>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <pugixml.hpp>
 
 #include "line_index.h"
 #include "numbers.h"
+#include "pmxml_outline.h"
+#include "pmxml_part_tree.h"
 #include "units.h"
 
 namespace mbx_files {
@@ -66,14 +73,14 @@ std::string join(const std::vector<std::string>& parts, const std::string& first
 // would return: the first node with that name.
 // Names are compared here rather than by strcmp: they are short, and the
 // call cost more than the comparison.
-template <size_t N>
-std::array<pugi::xml_node, N> children_named(const pugi::xml_node& parent, const char* const (&names)[N]) {
+template <class Node, size_t N>
+std::array<Node, N> children_named(const Node& parent, const char* const (&names)[N]) {
     const auto same = [](const char* a, const char* b) {
         while (*a && *a == *b) ++a, ++b;
         return *a == *b;
     };
-    std::array<pugi::xml_node, N> found{};
-    for (pugi::xml_node c = parent.first_child(); c; c = c.next_sibling()) {
+    std::array<Node, N> found{};
+    for (Node c = parent.first_child(); c; c = c.next_sibling()) {
         const char* name = c.name();
         for (size_t k = 0; k < N; ++k)
             if (!found[k] && same(name, names[k])) {
@@ -106,9 +113,14 @@ private:
 std::string operator+(const Who& who, const char* text) { return who.str() + text; }
 
 struct PendingJoint {
-    pugi::xml_node node;
-    size_t path;  // index into Reader::paths_
+    pugi::xml_node node;  // in the whole DOM
+    int part = -1;        // or the outline's element, read by parts
+    size_t path;          // index into Reader::paths_
 };
+
+// Thrown where reading by parts gives up: the whole DOM is read instead,
+// and says what is wrong if anything is.
+struct ReadWholeDom {};
 
 // String -> int by open addressing in one array. A 100k-part file holds a
 // quarter of a million frame refs and as many body and joint ids;
@@ -188,15 +200,53 @@ TextBuffer allocate_buffer(size_t size) {
 
 class Reader {
 public:
-    // `text` holds `size` bytes of the file, from allocate_buffer; `lines`
-    // indexes them.
-    Reader(TextBuffer text, size_t size, LineIndex lines, std::string file)
-        : text_(std::move(text)), size_(size), lines_(std::move(lines)) {
+    // `text` holds `size` bytes of the file; `lines` indexes them. Both
+    // outlive the reader.
+    Reader(const char* text, size_t size, const LineIndex& lines, std::string file)
+        : text_(text), size_(size), lines_(lines) {
         model_.file = std::move(file);
     }
 
-    PmxmlModel run() {
-        const pugi::xml_parse_result parsed = parse();
+    // Reads by parts (pmxml_outline.h): the outline of the file, then each
+    // part parsed on its own from a copy of its text (pmxml_part_tree.h), so
+    // the text stays as it is for run() should this give up. Gives up (nullopt) on what the
+    // outline does not take and on any error, which run() then reports
+    // exactly as it always has, XML errors before those of the content.
+    std::optional<PmxmlModel> run_by_parts() {
+        PmxmlOutline outline;
+        if (!outline_pmxml(std::string_view(text_, size_), outline)) return std::nullopt;
+        outline_ = &outline;
+        try {
+            const OutlineElement& root = element(outline.root);
+            if (root.name != "PhysicalModelingXMLFile") return std::nullopt;
+            int container = -1;
+            for (int c = root.first_child; c >= 0; c = element(c).next_sibling) {
+                const std::string_view n = element(c).name;
+                if (n != "SimMechanics" && n != "SimscapeMultibody") continue;
+                if (container >= 0) return std::nullopt;
+                container = c;
+            }
+            if (container < 0) return std::nullopt;
+            model_.container = element(container).name;
+            model_.created_using = text_of(outline.root, "createdUsing");
+            model_.name = text_of(container, "name");
+            if (model_.name.empty()) model_.name = text_of(outline.root, "name");
+            paths_.emplace_back();
+            walk(container, 0, 0);
+            for (const PendingJoint& j : pending_joints_) read_joint(part(j.part), paths_[j.path]);
+            assign_frame_ids();
+        } catch (const ReadWholeDom&) {
+            return std::nullopt;
+        } catch (const FileError&) {
+            return std::nullopt;
+        }
+        return std::move(model_);
+    }
+
+    // Reads the whole DOM, parsed in place in `writable`: the same text,
+    // from allocate_buffer.
+    PmxmlModel run(char* writable) {
+        const pugi::xml_parse_result parsed = parse(writable);
         if (!parsed)
             throw FileError(model_.file, lines_.line_of(parsed.offset),
                             std::string("malformed XML: ") + parsed.description());
@@ -238,27 +288,48 @@ private:
     // lies; any other encoding was converted into a copy, leaving the text
     // as read, and is loaded by copy as before (so are texts under 4 bytes,
     // whose encoding guess the terminator could change).
-    pugi::xml_parse_result parse() {
+    pugi::xml_parse_result parse(char* text) {
         constexpr unsigned options = pugi::parse_default;
         if (size_ >= 4) {
-            const pugi::xml_parse_result r =
-                doc_.load_buffer_inplace(text_.get(), size_ + 1, options, pugi::encoding_auto);
+            const pugi::xml_parse_result r = doc_.load_buffer_inplace(text, size_ + 1, options, pugi::encoding_auto);
             if (r.encoding == pugi::encoding_utf8) return r;
             if (r.encoding == pugi::encoding_latin1 &&
-                std::all_of(text_.get(), text_.get() + size_, [](char c) { return (unsigned char)c < 0x80; }))
+                std::all_of(text, text + size_, [](char c) { return (unsigned char)c < 0x80; }))
                 return r;
         }
-        return doc_.load_buffer(text_.get(), size_, options, pugi::encoding_auto);
+        return doc_.load_buffer(text, size_, options, pugi::encoding_auto);
     }
 
-    int line(const pugi::xml_node& n) const { return lines_.line_of(n.offset_debug()); }
+    const OutlineElement& element(int e) const { return outline_->elements[size_t(e)]; }
 
-    [[noreturn]] void fail(const pugi::xml_node& n, const std::string& message) const {
+    // Part `e` of the outline, parsed into part_ (reused from part to part).
+    PartNode part(int e) {
+        const OutlineElement& p = element(e);
+        if (!parse_part(std::string_view(text_ + p.part_begin, p.part_end - p.part_begin), p.part_begin,
+                        outline_->conversions, part_))
+            throw ReadWholeDom();
+        return PartNode(&part_, 0);
+    }
+
+    template <class Node>
+    int line(const Node& n) const {
+        return lines_.line_of(n.offset_debug());
+    }
+    int line(int outline_element) const { return lines_.line_of(std::ptrdiff_t(element(outline_element).offset)); }
+
+    template <class Node>
+    [[noreturn]] void fail(const Node& n, const std::string& message) const {
         throw FileError(model_.file, line(n), message);
     }
 
-    void warn(const pugi::xml_node& n, const char* code, mbx_subject_kind kind, const std::string& id,
+    template <class Node>
+    void warn(const Node& n, const char* code, mbx_subject_kind kind, const std::string& id,
               const std::string& name, const std::string& message) {
+        warn(line(n), code, kind, id, name, message);
+    }
+
+    void warn(int line, const char* code, mbx_subject_kind kind, const std::string& id, const std::string& name,
+              const std::string& message) {
         mbx_memory::Diagnostic d;
         d.severity = MBX_SEVERITY_WARNING;
         d.code = code;
@@ -266,41 +337,51 @@ private:
         d.subject_id = id;
         d.subject_name = name;
         d.file = model_.file;
-        d.line = line(n);
+        d.line = line;
         d.message = message;
         model_.diagnostics.push_back(std::move(d));
     }
 
     // Unquoted text of a node, "" for a null node.
-    static std::string_view text(const pugi::xml_node& n) { return unquote(n.child_value()); }
+    template <class Node>
+    static std::string_view text(const Node& n) { return unquote(n.child_value()); }
 
     // Unquoted text of child `name`, "" if absent.
-    static std::string_view text_of(const pugi::xml_node& parent, const char* name) {
+    template <class Node>
+    static std::string_view text_of(const Node& parent, const char* name) {
         return text(parent.child(name));
+    }
+    std::string_view text_of(int outline_element, const char* name) const {
+        const int c = outline_->child(outline_element, name);
+        return c < 0 ? std::string_view() : unquote(element(c).text);
     }
 
     // `n`, the child `name` of `parent` if present.
-    pugi::xml_node need(const pugi::xml_node& n, const pugi::xml_node& parent, const char* name,
+    template <class Node>
+    Node need(const Node& n, const Node& parent, const char* name,
                         const Who& who) const {
         if (!n) fail(parent, who + " has no <" + name + ">");
         return n;
     }
 
-    double number(const pugi::xml_node& n, const Who& who) const {
+    template <class Node>
+    double number(const Node& n, const Who& who) const {
         const std::string_view t = text(n);
         const std::optional<double> v = parse_number(t);
         if (!v) fail(n, who + ": <" + n.name() + "> is not a number: " + q(t));
         return *v;
     }
 
-    void numbers(const pugi::xml_node& n, double* out, size_t count, const Who& who) const {
+    template <class Node>
+    void numbers(const Node& n, double* out, size_t count, const Who& who) const {
         const std::string_view t = text(n);
         if (!parse_number_list(t, out, count))
             fail(n, who + ": <" + n.name() + "> needs " + std::to_string(count) + " comma-separated numbers, got " +
                         q(t));
     }
 
-    double unit(const pugi::xml_node& n, Quantity quantity, const Who& who) {
+    template <class Node>
+    double unit(const Node& n, Quantity quantity, const Who& who) {
         const std::string_view t = text(n);
         // A file states the same few units on every element; unit_to_si is
         // pure, so the last good answer per quantity is reused.
@@ -318,7 +399,8 @@ private:
     // The unit of a value that may omit it when the value is zero (massless
     // helpers written by hand); otherwise the unit is as critical as the value.
     // `n` is the child `name` of `parent`, or null.
-    double unit_or_si(const pugi::xml_node& n, const pugi::xml_node& parent, const char* name, bool value_is_zero,
+    template <class Node>
+    double unit_or_si(const Node& n, const Node& parent, const char* name, bool value_is_zero,
                       Quantity quantity, std::string& unit_text, const Who& who) {
         if (!n || text(n).empty()) {
             if (!value_is_zero) fail(n ? n : parent, who + " has no <" + name + ">");
@@ -332,7 +414,8 @@ private:
     // `path` indexes paths_, the enclosing Subsystem names.
     void walk(const pugi::xml_node& node, size_t path, size_t depth) {
         for (pugi::xml_node b : node.child("bodies").children("Body")) read_body(b, paths_[path]);
-        for (pugi::xml_node j : node.child("joints").children("SimpleJoint")) pending_joints_.push_back({j, path});
+        for (pugi::xml_node j : node.child("joints").children("SimpleJoint"))
+            pending_joints_.push_back({j, -1, path});
         for (pugi::xml_node g : node.child("grounds").children("Ground")) read_ground(g, paths_[path]);
         for (pugi::xml_node s : node.child("subsystems").children("Subsystem")) {
             if (depth + 1 > kMaxSubsystemDepth)
@@ -351,7 +434,35 @@ private:
         }
     }
 
-    int read_frame(const pugi::xml_node& f, int body, const Who& body_who, int position_in_body) {
+    // The same walk over the outline; parts are parsed as they are reached.
+    void walk(int node, size_t path, size_t depth) {
+        const auto each = [&](const char* list, std::string_view name, auto&& visit) {
+            const int l = outline_->child(node, list);
+            if (l < 0) return;
+            for (int c = element(l).first_child; c >= 0; c = element(c).next_sibling)
+                if (element(c).name == name) visit(c);
+        };
+        each("bodies", "Body", [&](int b) { read_body(part(b), paths_[path]); });
+        each("joints", "SimpleJoint", [&](int j) { pending_joints_.push_back({pugi::xml_node(), j, path}); });
+        each("grounds", "Ground", [&](int g) { read_ground(part(g), paths_[path]); });
+        each("subsystems", "Subsystem", [&](int s) {
+            if (depth + 1 > kMaxSubsystemDepth) throw ReadWholeDom();
+            std::string name(text_of(s, "name"));
+            if (name.empty()) name = text_of(s, "nodeID");
+            if (name.empty()) name = "Subsystem@" + std::to_string(line(s));
+            const std::string_view status = text_of(s, "status");
+            if (!status.empty())
+                warn(line(s), "pmxml_subsystem_status", MBX_SUBJECT_MODEL, name, name,
+                     "the exporter reports on subsystem " + q(name) + ": " + std::string(status));
+            std::vector<std::string> inner = paths_[path];
+            inner.push_back(name);
+            paths_.push_back(std::move(inner));
+            walk(s, paths_.size() - 1, depth + 1);
+        });
+    }
+
+    template <class Node>
+    int read_frame(const Node& f, int body, const Who& body_who, int position_in_body) {
         static constexpr const char* kNames[] = {"name",           "displayName",   "nodeID",
                                                  "position",       "positionUnits", "orientation",
                                                  "positionOrigin", "positionReferenceFrame",
@@ -368,18 +479,18 @@ private:
 
         double p[3], o[9];
         numbers(need(c[3], f, "position", who), p, 3, who);
-        const pugi::xml_node units = need(c[4], f, "positionUnits", who);
+        const Node units = need(c[4], f, "positionUnits", who);
         fr.length_unit = text(units);
         fr.length_to_m = unit(units, Quantity::length, who);
         numbers(need(c[5], f, "orientation", who), o, 9, who);
         for (size_t k = 6; k < 9; ++k) {
-            const pugi::xml_node n = c[k];
+            const Node n = c[k];
             const std::string_view value = text(n);
             if (n && !equals_lowered(value, "world"))
                 fail(n, who + ": <" + kNames[k] + "> is " + q(value) +
                             "; only WORLD is supported (every pose must be absolute)");
         }
-        if (const pugi::xml_node n = c[9]) {
+        if (const Node n = c[9]) {
             const std::string_view value = text(n);
             if (!equals_lowered(value, "3x3 transform"))
                 fail(n, who + ": <orientationType> is " + q(value) + "; only '3x3 Transform' is supported");
@@ -394,7 +505,7 @@ private:
             fail(c[5], who + ": <orientation> is not a rotation matrix (max |R^T R - I| = " + std::to_string(error) +
                            ", determinant " + std::to_string(fr.rotation.determinant()) + ")");
 
-        if (const pugi::xml_attribute ref = f.attribute("ref")) {
+        if (const auto ref = f.attribute("ref")) {
             // The view stays valid: it points into the document, not the frame.
             const std::string_view key = trim(ref.value());
             fr.ref = key;
@@ -451,7 +562,8 @@ private:
         }
     }
 
-    std::string body_id(const pugi::xml_node& n, const std::string& wanted, const std::string& name) {
+    template <class Node>
+    std::string body_id(const Node& n, const std::string& wanted, const std::string& name) {
         std::string id = unique(body_ids_, wanted);
         if (id != wanted)
             warn(n, "pmxml_duplicate_id", MBX_SUBJECT_BODY, id, name,
@@ -459,7 +571,8 @@ private:
         return id;
     }
 
-    void read_body(const pugi::xml_node& b, const std::vector<std::string>& path) {
+    template <class Node>
+    void read_body(const Node& b, const std::vector<std::string>& path) {
         static constexpr const char* kNames[] = {"name",         "nodeID", "mass",   "massUnits",
                                                  "volume",       "volumeUnits",      "inertia",
                                                  "inertiaUnits", "frames", "geometryFileName", "status"};
@@ -478,7 +591,7 @@ private:
 
         body.mass = number(need(c[2], b, "mass", who), who);
         body.mass_to_kg = unit_or_si(c[3], b, "massUnits", body.mass == 0, Quantity::mass, body.mass_unit, who);
-        if (const pugi::xml_node v = c[4]; v && !text(v).empty()) {
+        if (const Node v = c[4]; v && !text(v).empty()) {
             body.volume = number(v, who);
             std::string volume_unit;
             body.volume_to_m3 =
@@ -495,9 +608,9 @@ private:
             for (int j = 0; j < 3; ++j) tensor(i, j) = inertia[3 * i + j];
 
         const int index = int(model_.bodies.size());
-        const pugi::xml_node frames = need(c[8], b, "frames", who);
+        const Node frames = need(c[8], b, "frames", who);
         int k = 0;
-        for (pugi::xml_node f : frames.children("Frame")) {
+        for (Node f : frames.children("Frame")) {
             const int fi = read_frame(f, index, who, k++);
             const std::string& name = model_.frames[size_t(fi)].name;
             if (name == "CS1" && body.cs1 < 0) body.cs1 = fi;
@@ -508,7 +621,7 @@ private:
             if (body.mass != 0) fail(frames, who + " has a mass but no CG frame");
             body.cg = body.cs1;
         }
-        if (const pugi::xml_node g = c[9]) {
+        if (const Node g = c[9]) {
             body.geometry_file = text(g);
             body.geometry_line = line(g);
         }
@@ -534,7 +647,8 @@ private:
         model_.bodies.push_back(std::move(body));
     }
 
-    void read_ground(const pugi::xml_node& g, const std::vector<std::string>& path) {
+    template <class Node>
+    void read_ground(const Node& g, const std::vector<std::string>& path) {
         PmxmlBody body;
         body.line = line(g);
         body.subsystem_path = path;
@@ -545,7 +659,7 @@ private:
         // The world's datum, not a CAD part: ground and massless helper.
         body.flags = MBX_BODY_GROUND | MBX_BODY_HELPER;
         const Who who("ground", body.name);
-        pugi::xml_node f = g.child("frame").child("Frame");
+        Node f = g.child("frame").child("Frame");
         if (!f) f = g.child("Frame");
         if (!f) fail(g, who + " has no <frame><Frame>");
         const int index = int(model_.bodies.size());
@@ -554,10 +668,11 @@ private:
     }
 
     // `side` is the child `role` of joint `j`, or null.
-    int end_frame(const pugi::xml_node& j, const pugi::xml_node& side, const char* role, const Who& who) const {
+    template <class Node>
+    int end_frame(const Node& j, const Node& side, const char* role, const Who& who) const {
         if (!side) fail(j, who + " has no <" + role + ">");
-        const pugi::xml_node frame =
-            side.find_node([](const pugi::xml_node& n) { return std::strcmp(n.name(), "Frame") == 0; });
+        const Node frame =
+            side.find_node([](const auto& n) { return std::strcmp(n.name(), "Frame") == 0; });
         if (!frame) fail(side, who + ": <" + role + "> names no <Frame ref=...>");
         const std::string_view ref = trim(frame.attribute("ref").value());
         if (ref.empty()) fail(frame, who + ": the " + role + " <Frame> has no ref");
@@ -568,7 +683,8 @@ private:
         return defined;
     }
 
-    PmxmlPrimitive read_primitive(const pugi::xml_node& p, const Who& who) const {
+    template <class Node>
+    PmxmlPrimitive read_primitive(const Node& p, const Who& who) const {
         PmxmlPrimitive prim;
         prim.line = line(p);
         static constexpr const char* kNames[] = {"name", "referenceFrame", "axis"};
@@ -588,13 +704,13 @@ private:
         // A weld's axis is a dummy and a spherical joint has none.
         if (prim.type != MBX_PRIMITIVE_REVOLUTE && prim.type != MBX_PRIMITIVE_PRISMATIC) return prim;
         const std::string name = lower(raw_name);
-        if (const pugi::xml_node reference = c[1]) {
+        if (const Node reference = c[1]) {
             const std::string_view value = text(reference);
             if (!value.empty() && !equals_lowered(value, "world"))
                 fail(reference, who + ": the " + name + " axis is given in " + q(value) + "; only WORLD is supported");
         }
         double a[3];
-        const pugi::xml_node axis = c[2];
+        const Node axis = c[2];
         if (!axis) fail(p, who + "'s " + name + " primitive has no <axis>");
         numbers(axis, a, 3, who);
         prim.axis = Eigen::Vector3d(a[0], a[1], a[2]);
@@ -602,7 +718,8 @@ private:
         return prim;
     }
 
-    void read_joint(const pugi::xml_node& j, const std::vector<std::string>& path) {
+    template <class Node>
+    void read_joint(const Node& j, const std::vector<std::string>& path) {
         static constexpr const char* kNames[] = {"name", "nodeID", "base", "follower", "primitives", "status"};
         const auto c = children_named(j, kNames);
         PmxmlJoint joint;
@@ -620,9 +737,9 @@ private:
         const Who who("joint", joint.name);
         joint.base_frame = end_frame(j, c[2], "base", who);
         joint.follower_frame = end_frame(j, c[3], "follower", who);
-        const pugi::xml_node primitives = c[4];
+        const Node primitives = c[4];
         if (!primitives) fail(j, who + " has no <primitives>");
-        for (pugi::xml_node p : primitives.children("Primitive")) joint.primitives.push_back(read_primitive(p, who));
+        for (Node p : primitives.children("Primitive")) joint.primitives.push_back(read_primitive(p, who));
         if (joint.primitives.empty()) fail(primitives, who + " has no <Primitive>");
         joint.status = text(c[5]);
         model_.joints.push_back(std::move(joint));
@@ -634,10 +751,12 @@ private:
         double factor = 1;
     };
 
-    TextBuffer text_;  // parsed in place: outlives doc_
+    const char* text_;
     size_t size_;
-    LineIndex lines_;
+    const LineIndex& lines_;
     pugi::xml_document doc_;
+    const PmxmlOutline* outline_ = nullptr;  // while reading by parts
+    PartTree part_;                          // the part being read
     PmxmlModel model_;
     StringTable refs_;  // frame ref -> frame index
     StringTable body_ids_, joint_ids_;
@@ -652,7 +771,60 @@ private:
 // while it is still in the cache.
 constexpr size_t kChunk = size_t(1) << 20;
 
-PmxmlModel parse_pmxml(std::string_view text, const std::string& file) {
+namespace {
+
+// `writable`: the same text in a buffer from allocate_buffer, in which the
+// whole DOM may be parsed in place; null: a copy is made should it be needed.
+PmxmlModel read_text(const char* text, size_t size, char* writable, const LineIndex& lines, const std::string& file,
+                     PmxmlParse how, PmxmlParse* used) {
+    if (how != PmxmlParse::whole_dom) {
+        Reader by_parts(text, size, lines, file);
+        if (std::optional<PmxmlModel> m = by_parts.run_by_parts()) {
+            if (used) *used = PmxmlParse::by_parts;
+            return std::move(*m);
+        }
+    }
+    if (used) *used = PmxmlParse::whole_dom;
+    TextBuffer copy;
+    if (!writable) {
+        copy = allocate_buffer(size);
+        std::memcpy(copy.get(), text, size);
+        writable = copy.get();
+    }
+    return Reader(text, size, lines, file).run(writable);
+}
+
+// A file mapped into memory, read-only and populated up front: reading by
+// parts copies nothing out of the page cache (read() copied the whole file
+// and faulted in as many pages again for the copy).
+class MappedFile {
+public:
+    // False where the file cannot be mapped (empty, not a regular file).
+    bool map(const std::string& path) {
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) return false;
+        struct stat st {};
+        if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+            void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+            if (p != MAP_FAILED) data_ = static_cast<const char*>(p), size_ = size_t(st.st_size);
+        }
+        ::close(fd);
+        return data_ != nullptr;
+    }
+    ~MappedFile() {
+        if (data_) ::munmap(const_cast<char*>(data_), size_);
+    }
+    const char* data() const { return data_; }
+    size_t size() const { return size_; }
+
+private:
+    const char* data_ = nullptr;
+    size_t size_ = 0;
+};
+
+}  // namespace
+
+PmxmlModel parse_pmxml(std::string_view text, const std::string& file, PmxmlParse how, PmxmlParse* used) {
     TextBuffer buffer = allocate_buffer(text.size());
     LineIndex lines;
     for (size_t at = 0; at < text.size(); at += kChunk) {
@@ -660,12 +832,21 @@ PmxmlModel parse_pmxml(std::string_view text, const std::string& file) {
         std::memcpy(buffer.get() + at, text.data() + at, n);
         lines.append(text.substr(at, n));
     }
-    return Reader(std::move(buffer), text.size(), std::move(lines), file).run();
+    return read_text(buffer.get(), text.size(), buffer.get(), lines, file, how, used);
 }
 
-PmxmlModel read_pmxml(const std::string& path) {
+PmxmlModel read_pmxml(const std::string& path, PmxmlParse how, PmxmlParse* used) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw FileError(path, 0, "cannot open the file: it is a directory");
+    if (how != PmxmlParse::whole_dom) {
+        MappedFile mapped;
+        if (mapped.map(path)) {
+            LineIndex lines;
+            for (size_t at = 0; at < mapped.size(); at += kChunk)
+                lines.append(std::string_view(mapped.data() + at, std::min(kChunk, mapped.size() - at)));
+            return read_text(mapped.data(), mapped.size(), nullptr, lines, path, how, used);
+        }
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path, 0, std::string("cannot open the file: ") + std::strerror(errno));
     in.seekg(0, std::ios::end);
@@ -681,7 +862,7 @@ PmxmlModel read_pmxml(const std::string& path) {
         if (size_t(in.gcount()) != n) throw FileError(path, 0, "cannot read the file");
         lines.append(std::string_view(text.get() + at, n));
     }
-    return Reader(std::move(text), size_t(size), std::move(lines), path).run();
+    return read_text(text.get(), size_t(size), text.get(), lines, path, how, used);
 }
 
 }  // namespace mbx_files

@@ -18,10 +18,18 @@
 
 namespace mbx_files {
 
-// Reads the file at `path`; messages name `path`.
-PmxmlModel read_pmxml(const std::string& path);
+// How a file is parsed: by parts (pmxml_outline.h: no DOM of the whole file,
+// each part as a small fragment) wherever the outline takes the file, else as
+// one DOM. Both give the same model, the same diagnostics and the same
+// errors; `whole_dom` forces the second (tests compare the two).
+enum class PmxmlParse { automatic, by_parts, whole_dom };
+
+// Reads the file at `path`; messages name `path`. `used`, if given, is told
+// which way the file was parsed.
+PmxmlModel read_pmxml(const std::string& path, PmxmlParse how = PmxmlParse::automatic, PmxmlParse* used = nullptr);
 
 // Parses XML text; messages name `file`.
-PmxmlModel parse_pmxml(std::string_view text, const std::string& file);
+PmxmlModel parse_pmxml(std::string_view text, const std::string& file, PmxmlParse how = PmxmlParse::automatic,
+                       PmxmlParse* used = nullptr);
 
 }  // namespace mbx_files
