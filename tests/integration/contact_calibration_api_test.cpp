@@ -15,6 +15,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+#include "../common/slow_build.h"
 
 using namespace itest;
 using namespace mbx_stub::build;
@@ -104,7 +105,8 @@ double after_value(const std::string& json, const std::string& key) {
 TEST_CASE("contact calibration api: tosses in an experiment file name friction, and the written description replays as calibrated") {
     mbx_test::TempDir dir("mbx_contact_calibration_api");
     const std::string exp = (dir.path / "tosses.xml").string();
-    std::ofstream(exp) << experiment("0-500/100", "30-530/125");
+    // Slow builds (slow_build.h) fit on fewer tosses and check the round trip only.
+    std::ofstream(exp) << (kSlowBuild ? experiment("0 190", "95") : experiment("0-500/100", "30-530/125"));
     // The naive start: Hunt-Crossley with restitution 0.5, mu 0.5, a friction spring.
     const std::string input = (dir.path / "cube.xml").string();
     std::ofstream(input) << "<mechatronics version=\"1\">\n"
@@ -118,15 +120,17 @@ TEST_CASE("contact calibration api: tosses in an experiment file name friction, 
     const double mu = after_value(first.json, "mu_kinetic");
     MESSAGE("mbx calibrate: mu " << mu << "; compared poses " << first.summary.baseline_simulated_validation_error
                                  << " % -> " << first.summary.final_simulated_validation_error << " % (validation)");
-    CHECK(first.json.find("\"cause\": \"contact_friction\"") != std::string::npos);
-    // The C++ contact fit on its 12 training tosses names mu 0.205 (docs/contact.md).
-    CHECK(std::abs(mu / 0.205 - 1) < 0.1);
-    CHECK(first.summary.final_simulated_validation_error < 0.5 * first.summary.baseline_simulated_validation_error);
+    if (!kSlowBuild) {
+        CHECK(first.json.find("\"cause\": \"contact_friction\"") != std::string::npos);
+        // The C++ contact fit on its 12 training tosses names mu 0.205 (docs/contact.md).
+        CHECK(std::abs(mu / 0.205 - 1) < 0.1);
+        CHECK(first.summary.final_simulated_validation_error < 0.5 * first.summary.baseline_simulated_validation_error);
+    }
 
     // Fed back: the fitted material is the start, and its replay is the calibrated one.
     const std::string written = (fs::path(out) / "description.xml").string();
     const std::string text = mbx_test::read_file(written);
-    CHECK(text.find("mu_kinetic=\"") != std::string::npos);
+    if (!kSlowBuild) CHECK(text.find("mu_kinetic=\"") != std::string::npos);
     const Calibrated again = calibrate(written, exp, (dir.path / "again").string());
     MESSAGE("fed back: baseline " << again.summary.baseline_simulated_validation_error << " %");
     CHECK(std::abs(again.summary.baseline_simulated_validation_error / first.summary.final_simulated_validation_error - 1) < 1e-6);
