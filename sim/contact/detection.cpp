@@ -2,9 +2,11 @@
 
 #include <fcl/fcl.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/finding.h"
+#include "sim/dynamics.h"
 
 namespace mbx::sim::contact {
 
@@ -91,6 +93,21 @@ Scene::Scene(const Model& m, std::vector<Shape> shapes) : impl_(std::make_unique
         if (shapes_[i].kind == ShapeKind::HalfSpace) impl_->planes.push_back(int(i));
         impl_->objects.push_back(std::move(o));
     }
+    bool skipping = false;
+    for (const Shape& s : shapes_) skipping |= s.skip_if_overlapping_at_reference;
+    if (skipping) {
+        Data reference(m);  // at m.q_reference: the CAD configuration
+        update_positions(m, reference);
+        std::vector<Contact> found;
+        detect(reference, found);
+        for (const Contact& c : found)
+            if (shapes_[size_t(c.shape_a)].skip_if_overlapping_at_reference &&
+                shapes_[size_t(c.shape_b)].skip_if_overlapping_at_reference)
+                skipped_.push_back({std::min(c.shape_a, c.shape_b), std::max(c.shape_a, c.shape_b)});
+        std::sort(skipped_.begin(), skipped_.end());
+        skipped_.erase(std::unique(skipped_.begin(), skipped_.end()), skipped_.end());
+        stats_ = DetectionStats{};
+    }
 }
 
 Scene::~Scene() = default;
@@ -99,6 +116,9 @@ bool Scene::collides(int a, int b) const {
     const Shape& sa = shapes_[size_t(a)];
     const Shape& sb = shapes_[size_t(b)];
     if (sa.body == sb.body) return false;
+    if (!skipped_.empty() && sa.skip_if_overlapping_at_reference && sb.skip_if_overlapping_at_reference &&
+        std::binary_search(skipped_.begin(), skipped_.end(), std::pair<int, int>(std::min(a, b), std::max(a, b))))
+        return false;
     if (joined_[size_t(sa.body) * size_t(body_count_) + size_t(sb.body)]) return false;
     return (sa.group & sb.mask) && (sb.group & sa.mask);
 }

@@ -7,6 +7,7 @@
 // solvers drops that pair and is counted, it never escapes.
 #pragma once
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "sim/contact/shape.h"
@@ -32,7 +33,8 @@ public:
     // Pairs of shapes on bodies joined directly by a joint (parent and child,
     // or the two bodies of a loop's cut joint; a floating body's free joint
     // and a joint to the world do not count, as in MuJoCo) and shapes on the
-    // same body never collide. Throws mbx::Error naming
+    // same body never collide, nor do two shapes that skip overlaps at the
+    // reference configuration and overlap there (Shape). Throws mbx::Error naming
     // the shape for a non-positive size, a body out of range or an empty hull.
     Scene(const Model& m, std::vector<Shape> shapes);
     ~Scene();
@@ -44,12 +46,15 @@ public:
     // Contacts at data's body poses (data.x_world, as update_positions leaves them).
     void detect(const Data& d, std::vector<Contact>& out);
     const DetectionStats& stats() const { return stats_; }
+    // Shape pairs (a < b) left out because they overlap at the reference configuration.
+    const std::vector<std::pair<int, int>>& skipped_at_reference() const { return skipped_; }
 
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
     std::vector<Shape> shapes_;
     std::vector<char> joined_;  // body pair adjacency, body_count^2
+    std::vector<std::pair<int, int>> skipped_;  // sorted
     int body_count_ = 0;
     DetectionStats stats_;
     bool collides(int a, int b) const;

@@ -38,6 +38,11 @@ struct Shape {
     // Which contact material it is made of: a pair of shapes takes the
     // settings of its pair of materials (contact_step.h, MaterialPair).
     int material = 0;
+    // Two shapes that both set this and overlap at the model's reference
+    // (CAD) configuration never collide: the real parts do not interpenetrate
+    // there, so the overlap is an artefact of the shapes (hulls of parts two
+    // joints apart across a short link), not a contact. Set on the default hulls.
+    bool skip_if_overlapping_at_reference = false;
 };
 
 }  // namespace mbx::sim::contact

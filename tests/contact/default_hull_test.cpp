@@ -19,6 +19,8 @@
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
 #include "sim/contact/convex_hull.h"
+#include "sim/contact/detection.h"
+#include "sim/dynamics.h"
 
 using namespace mbx;
 using namespace mbx::sim::contact;
@@ -244,4 +246,100 @@ TEST_CASE("default hulls: an ergoCub part dropped onto a plane with its default 
     const double sink = -lowest;
     CHECK(sink >= body.mass * g / (double(touching) * k) * (1 - 1e-3));
     CHECK(sink <= body.mass * g / k * (1 + 1e-3));
+}
+
+TEST_CASE("default hulls: ergoCub's hulls at its CAD pose, pairs not joined by a joint") {
+    auto t = ergocub();
+    if (!t) {
+        MESSAGE("ergoCub data not present, skipped");
+        return;
+    }
+    const Mechanism& m = *t->mechanism;
+    ContactSpec spec;
+    spec.shapes.push_back(hull_default());
+    std::vector<LibraryError> errors;
+    const ResolvedContact rc = resolve_contact(spec, m, errors);
+    REQUIRE(errors.empty());
+    const sim::Model model = sim::build_model(m);
+    std::vector<Shape> shapes;
+    for (const ResolvedCollision& r : rc.shapes) {
+        const std::vector<Eigen::Vector3d> points = part_points(*t, r.body, r.hull_part);
+        if (points.empty()) continue;
+        Shape s;
+        s.kind = ShapeKind::Convex, s.name = r.name, s.body = model.body_of_source[size_t(r.body)];
+        REQUIRE(s.body > 0);
+        s.hull = std::make_shared<const ConvexHull>(convex_hull(points, r.name));
+        shapes.push_back(s);
+    }
+    // Without the reference filter: the overlaps a plain joint filter leaves.
+    Scene scene(model, shapes);
+    sim::Data d(model);
+    sim::update_positions(model, d);
+    std::vector<Contact> contacts;
+    scene.detect(d, contacts);
+    std::set<std::pair<std::string, std::string>> pairs;
+    double deepest = 0;
+    for (const Contact& c : contacts) {
+        pairs.insert({shapes[size_t(c.shape_a)].name, shapes[size_t(c.shape_b)].name});
+        deepest = std::max(deepest, c.depth);
+    }
+    std::string list;
+    for (const auto& [a, b] : pairs) list += "\n  " + a + " / " + b;
+    MESSAGE("ergoCub at its CAD pose: " << shapes.size() << " hulls, " << scene.stats().candidate_pairs
+                                        << " candidate pairs after the joint filter, " << pairs.size()
+                                        << " overlapping, deepest " << deepest * 1e3 << " mm:" << list);
+    CHECK(!pairs.empty());  // what the filter below is for
+    // The default hulls skip exactly those pairs: none collides at the CAD
+    // pose, and the pairs skipped are the overlapping ones.
+    for (Shape& s : shapes) s.skip_if_overlapping_at_reference = true;
+    Scene filtered(model, shapes);
+    std::vector<Contact> left;
+    filtered.detect(d, left);
+    CHECK(left.empty());
+    std::set<std::pair<std::string, std::string>> skipped;
+    for (const auto& [a, b] : filtered.skipped_at_reference()) skipped.insert({shapes[size_t(a)].name, shapes[size_t(b)].name});
+    CHECK(skipped == pairs);
+}
+
+TEST_CASE("default hulls: shapes overlapping at the reference pose never collide, the others still do") {
+    // Three free unit-ish boxes as hulls at the reference pose: A and B
+    // overlap there, C is apart. Moved, B into C still collides; A into B
+    // does not, whatever the pose.
+    const double m = 1, a = 0.1;
+    auto t = xtest::translate(mbx_test::free_parts("three", {{m, (m * a * a / 6) * Mat3::Identity(), Vec3(0, 0, 0)},
+                                                              {m, (m * a * a / 6) * Mat3::Identity(), Vec3(0.08, 0, 0)},
+                                                              {m, (m * a * a / 6) * Mat3::Identity(), Vec3(0.5, 0, 0)}}));
+    const sim::Model model = sim::build_model(*t->mechanism);
+    REQUIRE(model.body_count() == 4);
+    std::vector<Eigen::Vector3d> cube;
+    for (int k = 0; k < 8; ++k) cube.emplace_back(k & 1 ? a / 2 : -a / 2, k & 2 ? a / 2 : -a / 2, k & 4 ? a / 2 : -a / 2);
+    const auto hull = std::make_shared<const ConvexHull>(convex_hull(cube, "cube"));
+    std::vector<Shape> shapes;
+    for (int b = 1; b <= 3; ++b) {
+        Shape s;
+        s.kind = ShapeKind::Convex, s.name = "cube" + std::to_string(b), s.body = b, s.hull = hull;
+        s.skip_if_overlapping_at_reference = true;
+        shapes.push_back(s);
+    }
+    Scene scene(model, shapes);
+    REQUIRE(scene.skipped_at_reference().size() == 1);
+    CHECK(scene.skipped_at_reference()[0] == std::pair<int, int>(0, 1));
+    sim::Data d(model);
+    // Body 2 moved to overlap C by 1 cm: that pair collides; A and B, now
+    // apart, are still skipped (a skip is for good, not for the overlap).
+    d.q.segment<3>(model.joints[1].q_index) = Vec3(0.41, 0, 0);
+    sim::update_positions(model, d);
+    std::vector<Contact> contacts;
+    scene.detect(d, contacts);
+    REQUIRE(!contacts.empty());
+    for (const Contact& c : contacts) CHECK(std::minmax(c.shape_a, c.shape_b) == std::minmax(1, 2));
+    // Without the flag on one of them, A and B collide at the reference.
+    shapes[0].skip_if_overlapping_at_reference = false;
+    Scene plain(model, shapes);
+    CHECK(plain.skipped_at_reference().empty());
+    sim::Data reference(model);
+    sim::update_positions(model, reference);
+    contacts.clear();
+    plain.detect(reference, contacts);
+    CHECK(!contacts.empty());
 }

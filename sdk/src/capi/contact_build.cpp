@@ -86,6 +86,7 @@ void build_contact(const mbx_mechanism& mechanism, mbx_sim_model& model) {
                 for (Eigen::Vector3d& p : points) p = ground.apply(p);
             s.rotation.setIdentity(), s.position.setZero();
             s.hull = std::make_shared<const sc::ConvexHull>(sc::convex_hull(points, r.name));
+            s.skip_if_overlapping_at_reference = r.from_default;
             break;
         }
         }
