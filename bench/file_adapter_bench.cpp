@@ -4,7 +4,10 @@
 // memory of every stage as a ratio to that floor, and the cost per part:
 //
 //   pugixml load_file (floor)    the XML parsed into pugixml's DOM, nothing else
-//   read_pmxml (reader)          the PMXML reader alone: file -> PmxmlModel
+//   read_pmxml (reader)          the PMXML reader alone: file -> PmxmlModel,
+//                                by parts (the file mapped, no whole DOM)
+//   read_pmxml as one DOM        the same forced through pugixml's whole DOM
+//                                (the reader's fallback, and how it read before)
 //   FileAdapter::open            reader + host assembly, no VRML (the path of
 //                                `mbx translate file.xml`)
 //   + mbx_translate              what `mbx translate file.xml --format none`
@@ -71,7 +74,7 @@ struct Timer {
 using mbx_bench::reset_peak;
 using mbx_bench::status_kb;
 
-enum class Stage { pugixml, reader, cli_path, with_shapes };
+enum class Stage { pugixml, reader, reader_dom, cli_path, with_shapes };
 
 // What one child reports; seconds < 0 for a stage it did not run.
 struct Figures {
@@ -134,8 +137,9 @@ Figures measure(Stage stage, const Paths& g) {
         f.peak_mb = double(status_kb("VmHWM:") - start_kb) / 1024.0;
         return f;
     }
-    if (stage == Stage::reader) {
-        const mbx_files::PmxmlModel model = mbx_files::read_pmxml(g.xml);
+    if (stage == Stage::reader || stage == Stage::reader_dom) {
+        const mbx_files::PmxmlModel model = mbx_files::read_pmxml(
+            g.xml, stage == Stage::reader ? mbx_files::PmxmlParse::automatic : mbx_files::PmxmlParse::whole_dom);
         t.stop(f.seconds[load], f.cpu[load]);
         f.peak_mb = double(status_kb("VmHWM:") - start_kb) / 1024.0;
         return f;
@@ -239,7 +243,7 @@ int main(int argc, char** argv) {
         if (!mkdtemp(pattern)) return 1;
         const std::string dir = pattern;
         const Paths paths{dir + "/bench.xml", dir + "/bench_a.wrl"};
-        Figures bare{}, reader{}, cli{}, shapes{};
+        Figures bare{}, reader{}, reader_dom{}, cli{}, shapes{};
         struct Generated {
             size_t parts, rigid_bodies, vrml_nodes;
             double seconds;
@@ -256,6 +260,7 @@ int main(int argc, char** argv) {
                 },
                 gen) &&
             best_of(repeat, Stage::pugixml, paths, bare) && best_of(repeat, Stage::reader, paths, reader) &&
+            best_of(repeat, Stage::reader_dom, paths, reader_dom) &&
             best_of(repeat, Stage::cli_path, paths, cli) && best_of(repeat, Stage::with_shapes, paths, shapes);
         const double xml_mb = ok ? double(std::filesystem::file_size(paths.xml)) / 1048576.0 : 0;
         const double wrl_mb = ok ? double(std::filesystem::file_size(paths.wrl)) / 1048576.0 : 0;
@@ -269,7 +274,8 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "warning: %zu meshes matched (expected %zu), %u rigid bodies (expected %zu)\n",
                          shapes.matched_meshes, gen.parts, shapes.rigid_bodies, gen.rigid_bodies);
         row(n, "pugixml load_file (floor)", bare, load, load, bare.peak_mb, bare);
-        row(n, "read_pmxml (the reader)", reader, load, load, reader.peak_mb, bare);
+        row(n, "read_pmxml (the reader, by parts)", reader, load, load, reader.peak_mb, bare);
+        row(n, "read_pmxml as one DOM (its fallback)", reader_dom, load, load, reader_dom.peak_mb, bare);
         row(n, "FileAdapter::open, no VRML", cli, open_step, open_step, -1, bare);
         row(n, "  + mbx_translate", cli, open_step, translate_step, -1, bare);
         row(n, "  + report (translate --format none)", cli, open_step, report_step, cli.peak_mb, bare);
