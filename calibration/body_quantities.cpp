@@ -21,27 +21,33 @@ bool all_components(const Record& r, Quantity q, int body, int count, const Eige
     return true;
 }
 
-// Value and slope at sample k of a quadratic fitted by least squares to the
-// samples within 10 ms around it (one-sided at the record's ends): a
-// tracker's positions are too noisy to difference sample by sample.
-void local_fit(const Record& r, const std::vector<double>& q, size_t k, double& value, double& rate) {
-    const size_t n = q.size();
+// The samples within 10 ms around sample k (at least three each side;
+// one-sided at the record's ends): [a, b).
+void fit_window(const Record& r, size_t k, size_t& a, size_t& b) {
+    const size_t n = r.t.size();
     const double dt = r.sample_period();
     const size_t half = std::max<size_t>(3, dt > 0 ? size_t(std::llround(0.01 / dt)) : 3);
-    size_t a = k > half ? k - half : 0, b = std::min(n, k + half + 1);
+    a = k > half ? k - half : 0, b = std::min(n, k + half + 1);
     if (b - a < 2 * half + 1) {
         if (a == 0) b = std::min(n, 2 * half + 1);
         else a = b > 2 * half + 1 ? b - 2 * half - 1 : 0;
     }
+}
+
+// Value and slope at sample k of a quadratic fitted by least squares to
+// value(i) over the window [a, b): a tracker's positions are too noisy to
+// difference sample by sample.
+template <class Value>
+void local_fit(const Record& r, size_t a, size_t b, size_t k, const Value& value, double& at, double& rate) {
     Eigen::MatrixXd A(Eigen::Index(b - a), 3);
     Eigen::VectorXd y(Eigen::Index(b - a));
     for (size_t i = a; i < b; ++i) {
         const double t = r.t[i] - r.t[k];
         A.row(Eigen::Index(i - a)) << 1, t, t * t;
-        y[Eigen::Index(i - a)] = q[i];
+        y[Eigen::Index(i - a)] = value(i);
     }
     const Eigen::Vector3d c = A.colPivHouseholderQr().solve(y);
-    value = c[0], rate = c[1];
+    at = c[0], rate = c[1];
 }
 
 }  // namespace
@@ -130,19 +136,18 @@ std::vector<int> measured_free_bodies(const sim::Model& m, const Record& r) {
 
 PoseSample measured_pose(const Record& r, int body, size_t k) {
     const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    size_t a = 0, b = 0;
+    fit_window(r, k, a, b);
     PoseSample s;
     s.t = r.t[k];
-    double rate[4] = {0, 0, 0, 0};
     for (int c = 0; c < 3; ++c) {
+        const std::vector<double>& p = r.find_body(Quantity::Position, body, c, origin)->values;
         double value = 0;
-        local_fit(r, r.find_body(Quantity::Position, body, c, origin)->values, k, value, rate[c]);
-        s.p[c] = r.find_body(Quantity::Position, body, c, origin)->values[k];
-        s.v[c] = rate[c];
+        local_fit(r, a, b, k, [&](size_t i) { return p[i]; }, value, s.v[c]);
+        s.p[c] = p[k];
     }
     if (all_components(r, Quantity::Velocity, body, 3, origin))
         for (int c = 0; c < 3; ++c) s.v[c] = r.find_body(Quantity::Velocity, body, c, origin)->values[k];
-    // The measured quaternions made continuous in sign around the sample
-    // before fitting, since a tracker may give q or -q.
     const std::vector<double>* q[4];
     for (int c = 0; c < 4; ++c) q[c] = &r.find_body(Quantity::Orientation, body, c, origin)->values;
     auto at = [&](size_t i) { return Eigen::Vector4d((*q[0])[i], (*q[1])[i], (*q[2])[i], (*q[3])[i]); };
@@ -157,16 +162,16 @@ PoseSample measured_pose(const Record& r, int body, size_t k) {
         for (int c = 0; c < 3; ++c) s.w[c] = r.find_body(Quantity::AngularVelocity, body, c, origin)->values[k];
         return s;
     }
-    std::vector<std::vector<double>> aligned(4, std::vector<double>(r.t.size()));
-    for (size_t i = 0; i < r.t.size(); ++i) {
-        Eigen::Vector4d v = at(i);
-        if (v.dot(here) < 0) v = -v;
-        for (int c = 0; c < 4; ++c) aligned[size_t(c)][i] = v[c];
-    }
+    // The measured quaternions made continuous in sign around the sample
+    // before fitting, since a tracker may give q or -q.
+    auto aligned = [&](size_t i) {
+        const Eigen::Vector4d v = at(i);
+        return v.dot(here) < 0 ? Eigen::Vector4d(-v) : v;
+    };
     Eigen::Vector4d qd;
     for (int c = 0; c < 4; ++c) {
         double value = 0;
-        local_fit(r, aligned[size_t(c)], k, value, qd[c]);
+        local_fit(r, a, b, k, [&](size_t i) { return aligned(i)[c]; }, value, qd[c]);
     }
     // w_body = 2 conj(q) q', with q' scaled like q's normalisation.
     const double scale = 1 / here.norm();
