@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -44,6 +45,47 @@ inline std::string replace_once(std::string text, const std::string& from, const
     REQUIRE_MESSAGE(text.find(from, at + 1) == std::string::npos, "'" << from << "' occurs more than once");
     return text.replace(at, from.size(), to);
 }
+
+// Mutations of a text for the readers' robustness tests: each of 1 to
+// `max_edits` edits erases a stretch, inserts one of `tokens`, overwrites a
+// byte, or (`last`) applies the caller's own edit at a random place.
+// Deterministic for a seed (xorshift64).
+class Mutator {
+public:
+    explicit Mutator(uint64_t seed) : state_(seed) {}
+    uint64_t next() {
+        state_ ^= state_ << 13;
+        state_ ^= state_ >> 7;
+        state_ ^= state_ << 17;
+        return state_;
+    }
+    template <size_t N, class Last>
+    std::string mutate(std::string text, const char* const (&tokens)[N], int max_edits, size_t max_erase, Last last) {
+        const int edits = 1 + int(next() % uint64_t(max_edits));
+        for (int e = 0; e < edits; ++e) {
+            const size_t at = size_t(next() % text.size());
+            switch (next() % 4) {
+                case 0:
+                    text.erase(at, 1 + next() % max_erase);
+                    break;
+                case 1:
+                    text.insert(at, tokens[next() % N]);
+                    break;
+                case 2:
+                    text[at] = char(next() % 256);
+                    break;
+                default:
+                    last(text, at);
+                    break;
+            }
+            if (text.empty()) text = "<";
+        }
+        return text;
+    }
+
+private:
+    uint64_t state_;
+};
 
 // shared/data/pmxml beside the repository; "" (and a message) when absent.
 inline std::string pmxml_data_dir() {

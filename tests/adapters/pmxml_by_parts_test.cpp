@@ -6,8 +6,6 @@
 // text, other encodings, anything malformed) goes to the DOM.
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,12 +21,7 @@ using namespace mbx_files;
 
 namespace {
 
-std::string file_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using mbx_test::read_file;
 
 // What reading `text` gives: the model, or the error's text.
 struct Outcome {
@@ -104,7 +97,7 @@ TEST_CASE("pmxml by parts: the real exports, the samples and a generated assembl
     CHECK(files.size() >= 6);
     for (const std::string& f : files) {
         CAPTURE(f);
-        CHECK(same_both_ways(file_text(f)) == PmxmlParse::by_parts);
+        CHECK(same_both_ways(read_file(f)) == PmxmlParse::by_parts);
         // read_pmxml maps the file rather than reading it: the same model.
         PmxmlParse used = PmxmlParse::automatic;
         const PmxmlModel mapped = read_pmxml(f, PmxmlParse::automatic, &used);
@@ -146,43 +139,20 @@ TEST_CASE("pmxml by parts: what the outline does not take is read by the DOM, wi
 TEST_CASE("pmxml by parts: mutants of the tiny model and a real export agree both ways") {
     std::vector<std::string> originals = {atest::tiny_pmxml()};
     if (const std::string dir = atest::pmxml_data_dir(); !dir.empty())
-        originals.push_back(file_text(dir + "/legs_mechanism_2014/LEGS_MECHANISM.xml"));
-    uint64_t state = 0x2545f4914f6cdd1dull;
-    auto next = [&state]() {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        return state;
-    };
+        originals.push_back(read_file(dir + "/legs_mechanism_2014/LEGS_MECHANISM.xml"));
+    atest::Mutator mutator(0x2545f4914f6cdd1dull);
     // Tokens that move a file between the two ways or into its corners.
     const char* tokens[] = {"<", ">", "/", "\"", "'", "=", " ", "\n", "\r", "\t", "&amp;", "&lt;", "<!-- c -->",
                             "<![CDATA[x]]>", "<?pi x?>", "<Body>", "</Body>", "<Frame ref=\"7\"/>", "</bodies>",
                             "<name>\"n\"</name>", "</SimpleJoint >", "<x a='1' b=\"2\"/>", "\xC3\xA9", "WORLD"};
     int by_parts = 0, dom = 0;
     for (int round = 0; round < 1500; ++round) {
-        std::string text = originals[size_t(round) % originals.size()];
-        const int edits = 1 + int(next() % 3);
-        for (int e = 0; e < edits; ++e) {
-            const size_t at = size_t(next() % text.size());
-            switch (next() % 4) {
-                case 0:
-                    text.erase(at, 1 + next() % 30);
-                    break;
-                case 1:
-                    text.insert(at, tokens[next() % (sizeof tokens / sizeof *tokens)]);
-                    break;
-                case 2:
-                    text[at] = char(next() % 256);
-                    break;
-                default: {
-                    // Duplicate a stretch (a part or half of one).
-                    const size_t n = std::min<size_t>(text.size() - at, 1 + next() % 400);
-                    text.insert(size_t(next() % text.size()), text.substr(at, n));
-                    break;
-                }
-            }
-            if (text.empty()) text = "<";
-        }
+        // The caller's edit: duplicate a stretch (a part or half of one) elsewhere.
+        const std::string text = mutator.mutate(originals[size_t(round) % originals.size()], tokens, 3, 30,
+                                                [&](std::string& t, size_t at) {
+                                                    const size_t n = std::min<size_t>(t.size() - at, 1 + mutator.next() % 400);
+                                                    t.insert(size_t(mutator.next() % t.size()), t.substr(at, n));
+                                                });
         CAPTURE(round);
         (same_both_ways(text) == PmxmlParse::by_parts ? by_parts : dom) += 1;
     }

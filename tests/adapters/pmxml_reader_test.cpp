@@ -450,36 +450,12 @@ TEST_CASE("pmxml errors: a missing file") {
 
 TEST_CASE("pmxml fuzz: random mutations end in a model or a FileError with a line") {
     const std::string original = atest::tiny_pmxml();
-    uint64_t state = 0x9e3779b97f4a7c15ull;
-    auto next = [&state]() {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        return state;
-    };
+    atest::Mutator mutator(0x9e3779b97f4a7c15ull);
     const char* tokens[] = {"\"", ",", "<", ">", "/", "e-006", "ref=\"1\"", "nan", "-", "0", "\n", "Frame", "WORLD"};
     size_t parsed = 0, errors = 0;
     for (int round = 0; round < 2000; ++round) {
-        std::string text = original;
-        const int edits = 1 + int(next() % 4);
-        for (int e = 0; e < edits; ++e) {
-            const size_t at = size_t(next() % text.size());
-            switch (next() % 4) {
-                case 0:
-                    text.erase(at, 1 + next() % 40);
-                    break;
-                case 1:
-                    text.insert(at, tokens[next() % (sizeof tokens / sizeof *tokens)]);
-                    break;
-                case 2:
-                    text[at] = char(next() % 256);
-                    break;
-                default:
-                    text = text.substr(0, at);
-                    break;
-            }
-            if (text.empty()) text = "<";
-        }
+        const std::string text =
+            mutator.mutate(original, tokens, 4, 40, [](std::string& t, size_t at) { t = t.substr(0, at); });
         try {
             const PmxmlModel m = parse_pmxml(text, "fuzz.xml");
             ++parsed;
