@@ -10,6 +10,9 @@
 #include "mjcf/mjcf_contact.h"
 #include "mjcf/mjcf_defaults.h"
 #include "mjcf/mjcf_layout.h"
+#include "sim/build_model.h"
+#include "sim/contact/convex_hull.h"
+#include "sim/contact/detection.h"
 
 namespace mbx {
 namespace {
@@ -46,7 +49,9 @@ public:
         pugi::xml_node world = root.append_child("worldbody");
         world_geometry(world);
         for (int b : layout_.top) body(world, b);
+        find_excludes();
         contact_pairs(root);
+        contact_excludes(root);
         equalities(root);
         actuators(root);
         std::ostringstream os;
@@ -86,6 +91,24 @@ private:
         pugi::xml_node equality = defaults.append_child("equality");
         set(equality, "solref", mjcf_defaults::solref);
         set(equality, "solimp", mjcf_defaults::solimp);
+        // MuJoCo 2.2.2 processes a mesh asset at its class's geom density: at
+        // density 0 every geom on it gets size and bounding sphere 0, and the
+        // broadphase never pairs a hull with another geom (only planes, which
+        // skip it, touch it). Meshes that hulls use get a class with a density;
+        // inertiafromgeom is false, so no mass comes of it.
+        if (!hull_bodies().empty()) {
+            pugi::xml_node hull = defaults.append_child("default");
+            set(hull, "class", "mbx_hull");
+            set(hull.append_child("geom"), "density", "1000");
+        }
+    }
+
+    // Bodies whose mesh a hull geom uses.
+    std::set<int> hull_bodies() const {
+        std::set<int> out;
+        for (const ResolvedCollision& c : model_.settings().contact.shapes)
+            if (c.spec.kind == CollisionKind::Hull && model_.has_mesh(c.body)) out.insert(c.body);
+        return out;
     }
 
     void assets(pugi::xml_node root) {
@@ -98,6 +121,7 @@ private:
             pugi::xml_node mesh = asset.append_child("mesh");
             const std::string& stem = model_.mesh_stem(int(b));
             set(mesh, "name", stem);
+            if (hull_bodies().count(int(b))) set(mesh, "class", "mbx_hull");
             const std::string path = model_.mesh_path(int(b), format);
             set(mesh, "file", path.substr(path.find('/') + 1));  // relative to meshdir
         }
@@ -221,7 +245,9 @@ private:
                 set(g, "size", number_text(s.radius) + " " + number_text(0.5 * s.length));
                 break;
             case CollisionKind::Plane: set(g, "type", "plane"), set(g, "size", "0 0 1"); break;
-            case CollisionKind::Hull: set(g, "type", "mesh"), set(g, "mesh", model_.mesh_stem(body)); break;
+            case CollisionKind::Hull:
+                set(g, "type", "mesh"), set(g, "mesh", model_.mesh_stem(body));  // its asset in class mbx_hull (header)
+                break;
             }
             if (s.kind != CollisionKind::Hull) set_pose(g, pose);
             else set_pose(g, frame);
@@ -272,6 +298,7 @@ private:
             for (size_t k = i + 1; k < rc.shapes.size(); ++k) {
                 const ResolvedCollision &a = rc.shapes[i], &b = rc.shapes[k];
                 if (geom_names_[i].empty() || geom_names_[k].empty() || a.body == b.body || joined(a.body, b.body)) continue;
+                if (excluded_.count({std::min(a.body, b.body), std::max(a.body, b.body)})) continue;
                 if (!((a.spec.group & b.spec.mask) && (b.spec.group & a.spec.mask))) continue;
                 if (!list) list = root.append_child("contact");
                 pugi::xml_node pair = list.append_child("pair");
@@ -282,6 +309,63 @@ private:
             }
     }
 
+    // The default hulls that overlap at the CAD pose never collide in mbx
+    // (Shape::skip_if_overlapping_at_reference); MuJoCo hulls a body's whole
+    // mesh, so the body pairs whose mesh hulls overlap at qpos0 (the CAD
+    // pose) get an <exclude>, found by mbx's own detection on those hulls.
+    void find_excludes() {
+        const ResolvedContact& rc = model_.settings().contact;
+        const Mechanism& m = model_.mechanism();
+        std::vector<char> hulled(m.bodies.size(), 0);
+        for (const ResolvedCollision& r : rc.shapes)
+            if (r.from_default && model_.has_mesh(r.body)) hulled[size_t(r.body)] = 1;
+        if (std::count(hulled.begin(), hulled.end(), 1) < 2) return;
+        std::vector<std::pair<int, int>> pairs;
+        try {
+            const sim::Model sm = sim::build_model(m);
+            std::vector<sim::contact::Shape> shapes;
+            std::vector<int> source;
+            for (size_t b = 0; b < m.bodies.size(); ++b) {
+                if (!hulled[b] || sm.body_of_source[b] <= 0) continue;
+                std::vector<Eigen::Vector3d> points;
+                for (const Mesh& mesh : model_.shapes(int(b))) points.insert(points.end(), mesh.vertices.begin(), mesh.vertices.end());
+                sim::contact::Shape s;
+                s.kind = sim::contact::ShapeKind::Convex, s.name = m.bodies[b].name, s.body = sm.body_of_source[b];
+                s.hull = std::make_shared<const sim::contact::ConvexHull>(sim::contact::convex_hull(points, s.name));
+                s.skip_if_overlapping_at_reference = true;
+                shapes.push_back(std::move(s));
+                source.push_back(int(b));
+            }
+            const sim::contact::Scene scene(sm, shapes);
+            for (const auto& [a, b] : scene.skipped_at_reference()) pairs.push_back({source[size_t(a)], source[size_t(b)]});
+        } catch (const Error& e) {
+            model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model("contact"),
+                        std::string("MJCF: the default hulls overlapping at the CAD pose could not be found, none is excluded: ") +
+                            e.what());
+            return;
+        }
+        for (const auto& [a, b] : pairs) excluded_.insert({std::min(a, b), std::max(a, b)});
+    }
+
+    // Written after the <pair>s, which leave the excluded pairs out (MuJoCo
+    // collides an explicit pair whatever the excludes say).
+    void contact_excludes(pugi::xml_node root) {
+        if (excluded_.empty()) return;
+        pugi::xml_node list = root.child("contact");
+        if (!list) list = root.append_child("contact");
+        for (const auto& [a, b] : excluded_) {
+            const int ma = layout_.of_body[size_t(a)], mb = layout_.of_body[size_t(b)];
+            if (ma < 0 || mb < 0) continue;
+            pugi::xml_node x = list.append_child("exclude");
+            set(x, "body1", body_name(ma));
+            set(x, "body2", body_name(mb));
+        }
+        model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model("contact"),
+                    "MJCF: " + std::to_string(excluded_.size()) +
+                        " body pairs whose hulls overlap at the CAD pose are excluded from contact, as in mbx");
+    }
+
+    std::set<std::pair<int, int>> excluded_;  // mechanism body pairs (a < b) kept apart
     std::vector<MjcfContactParams> params_;  // by material pair (a * count + b)
     MjcfContactParams uniform_;
     bool per_pair_ = false;

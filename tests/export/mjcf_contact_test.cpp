@@ -7,6 +7,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "builder.h"
@@ -229,4 +231,52 @@ TEST_CASE("MJCF contact: a box rests in MuJoCo at mbx's m g / (4 k); a hull, on 
             CHECK(noted);
         }
     }
+}
+
+TEST_CASE("MJCF contact: ergoCub's default hulls collide in MuJoCo, except the pairs overlapping at the CAD pose, as in mbx") {
+    const std::string root = std::string(MBX_SHARED_DATA) + "/pmxml/ergocub";
+    if (!std::filesystem::exists(root + "/SIM_ERGOCUB_1-0.xml")) {
+        MESSAGE("ergoCub data not present, skipped");
+        return;
+    }
+    mbx_files::FileAdapterOptions o;
+    o.mesh_dirs.push_back(root + "/meshes/simmechanics");
+    auto t = xtest::translate_file(root + "/SIM_ERGOCUB_1-0.xml", o);
+    mbx_test::TempDir dir("mjcf_ergocub_hulls");
+    const mbx::ExportSettings settings = with_contact(*t, "<mechatronics version=\"1\"><collision body=\"*\" shape=\"hull\"/></mechatronics>");
+    xtest::MuJoCoRun run = xtest::load_mjcf(*t, dir, settings);
+    const mjModel* mm = run.model.get();
+    mjData* md = run.data.get();
+    // Every hull geom has a bounding sphere (a mesh geom at density 0 has
+    // none, and MuJoCo's broadphase then never pairs it).
+    int hulls = 0;
+    for (int g = 0; g < mm->ngeom; ++g)
+        if (mm->geom_group[g] == 3 && mm->geom_type[g] == mjGEOM_MESH) {
+            ++hulls;
+            CHECK(mm->geom_rbound[g] > 0);
+        }
+    CHECK(hulls >= 50);
+    // At qpos0 (the CAD pose) no hull touches another: the overlapping
+    // pairs are excluded. Removing the excludes brings them back.
+    mj_forward(mm, md);
+    CHECK(md->ncon == 0);
+    MESSAGE("ergoCub in MuJoCo: " << hulls << " hull geoms, " << mm->nexclude << " excluded body pairs, " << md->ncon
+                                  << " contacts at qpos0");
+    CHECK(mm->nexclude >= 10);
+    std::string xml = run.xml;
+    REQUIRE(xml.find("<exclude ") != std::string::npos);
+    for (size_t at = 0; (at = xml.find("<exclude ")) != std::string::npos;) xml.erase(at, xml.find("/>", at) + 2 - at);
+    const std::string path = dir.file("mjcf/without_excludes.xml");  // beside the original: same mesh paths
+    std::ofstream(path) << xml;
+    char error[1000] = "";
+    mjModel* bare = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+    REQUIRE_MESSAGE(bare, error);
+    mjData* bd = mj_makeData(bare);
+    mj_forward(bare, bd);
+    double deepest = 0;
+    for (int i = 0; i < bd->ncon; ++i) deepest = std::max(deepest, -bd->contact[i].dist);
+    MESSAGE("without the excludes: " << bd->ncon << " contacts at qpos0, deepest " << deepest * 1e3 << " mm");
+    CHECK(bd->ncon > 0);
+    mj_deleteData(bd);
+    mj_deleteModel(bare);
 }
