@@ -289,6 +289,32 @@ TEST_CASE("default hulls: ergoCub's hulls at its CAD pose, pairs not joined by a
                                         << " candidate pairs after the joint filter, " << pairs.size()
                                         << " overlapping, deepest " << deepest * 1e3 << " mm:" << list);
     CHECK(!pairs.empty());  // what the filter below is for
+    // Independently of FCL: the deepest vertex of the second hull inside the
+    // first (both in the world at the CAD pose), for each overlap. (MuJoCo's
+    // own narrowphase gives the deepest pair the same 51.93 mm:
+    // tests/export/mjcf_contact_test.cpp.)
+    auto world_vertices = [&](const Shape& s) {
+        std::vector<Eigen::Vector3d> out;
+        for (const Eigen::Vector3d& v : s.hull->vertices) out.push_back(d.x_world[size_t(s.body)].apply(v));
+        return out;
+    };
+    for (const Contact& c : contacts) {
+        const Shape &a = shapes[size_t(c.shape_a)], &b = shapes[size_t(c.shape_b)];
+        const std::vector<Eigen::Vector3d> va = world_vertices(a), vb = world_vertices(b);
+        double inside = -1e300;  // largest depth of a vertex of b inside a (min over a's faces of -distance)
+        for (const Eigen::Vector3d& x : vb) {
+            double depth = 1e300;
+            for (int f = 0; f < a.hull->face_count; ++f) {
+                const Eigen::Vector3d& p0 = va[size_t(a.hull->faces[size_t(4 * f + 1)])];
+                const Eigen::Vector3d n = (va[size_t(a.hull->faces[size_t(4 * f + 2)])] - p0).cross(va[size_t(a.hull->faces[size_t(4 * f + 3)])] - p0).normalized();
+                depth = std::min(depth, -n.dot(x - p0));
+            }
+            inside = std::max(inside, depth);
+        }
+        // To part them, that vertex must leave the first hull: the
+        // penetration depth is at least its depth.
+        CHECK(c.depth >= inside - 1e-9);
+    }
     // The default hulls skip exactly those pairs: none collides at the CAD
     // pose, and the pairs skipped are the overlapping ones.
     for (Shape& s : shapes) s.skip_if_overlapping_at_reference = true;
