@@ -239,11 +239,32 @@ void run_contact_stage(const sim::Model& m, const Experiment& e, const std::vect
             out.traces.push_back(std::move(t));
         }
     }
+    // The named causes as the loop's causes, on the body, so that the C API,
+    // `mbx calibrate` and calibration.json list them like the joint causes;
+    // there is no inverse dynamics in a contact fit.
+    Identification& id = out.identification;
+    id.baseline_fit_error = id.baseline_validation_error = id.final_fit_error = id.final_validation_error = NAN;
+    for (size_t i = 0; i < cs.fit.steps.size(); ++i) {
+        const ContactStep& step = cs.fit.steps[i];
+        SelectedCause c;
+        c.candidate.cause = step.cause;
+        c.candidate.body = cs.body;
+        for (const FittedValue& v : step.parameters) c.parameters.push_back({v.name, v.value, v.standard_error});
+        c.evidence = step.evidence;
+        c.fit_error = c.validation_error = NAN;
+        const PoseError& before = i == 0 ? cs.fit.baseline_validation : cs.fit.steps[i - 1].validation;
+        c.validation_gain = before.score() - step.validation.score();
+        id.causes.push_back(std::move(c));
+        out.steps[i + 1].cause = int(i);
+    }
+    for (const std::string& n : cs.fit.notes) id.considered.push_back(n);
+    for (StepErrors& s : out.steps) s.fit_error = s.validation_error = NAN;
     if (cs.fit.steps.empty()) out.warnings.push_back("no contact cause lowered the validation error enough to be named");
 }
 
-void write_contact_update(pugi::xml_node root, const ContactStageResult& c, const std::string& file) {
-    if (!c.ran || c.fit.steps.empty()) return;
+std::vector<std::string> write_contact_update(pugi::xml_node root, const ContactStageResult& c, const std::string& file) {
+    std::vector<std::string> notes;
+    if (!c.ran || c.fit.steps.empty()) return notes;
     const ContactModel& fitted = c.fit.model;
     std::vector<std::string> named;
     for (const ContactStep& s : c.fit.steps) named.push_back(s.cause);
@@ -315,6 +336,16 @@ void write_contact_update(pugi::xml_node root, const ContactStageResult& c, cons
                         "shape=\"plane\"> to move",
                         file, 0);
     }
+    const ContactModel& s = c.start;
+    std::string pair = c.material_a.empty() && c.material_b.empty() ? "the default pair" : c.material_a + "/" + c.material_b;
+    std::string note = "contact of " + pair + ":";
+    if (is_named("contact_stiffness")) note += " stiffness " + number(s.settings.normal.stiffness) + " -> " + number(fitted.settings.normal.stiffness) + ";";
+    if (is_named("contact_damping")) note += " damping " + number(s.settings.normal.damping) + " -> " + number(fitted.settings.normal.damping) + ";";
+    if (is_named("contact_friction")) note += " mu " + number(s.settings.friction.mu_kinetic) + " -> " + number(fitted.settings.friction.mu_kinetic) + ";";
+    if (is_named("ground_offset")) note += " world planes moved " + number(fitted.ground_offset) + " m along their normals;";
+    note.pop_back();
+    notes.push_back(note);
+    return notes;
 }
 
 }  // namespace mbx::calibration

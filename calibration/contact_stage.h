@@ -65,6 +65,7 @@ void run_contact_stage(const sim::Model& m, const Experiment& e, const std::vect
 // mu_kinetic, and every world plane moved along its normal by the ground
 // offset (in the element's unit). Adds a <contact> entry when the
 // description has none for the pair.
-void write_contact_update(pugi::xml_node root, const ContactStageResult& contact, const std::string& file);
+// Returns the lines the file's leading comment gets.
+std::vector<std::string> write_contact_update(pugi::xml_node root, const ContactStageResult& contact, const std::string& file);
 
 }  // namespace mbx::calibration

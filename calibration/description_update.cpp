@@ -291,7 +291,7 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
         set_always(n, "mass_scale", scale);
     }
 
-    write_contact_update(root, r.contact, file);
+    for (const std::string& n : write_contact_update(root, r.contact, file)) notes.push_back(n);
 
     comment.set_value(summary(model, r, described, notes).c_str());
 

@@ -93,9 +93,12 @@ int run_calibrate(const std::vector<std::string>& args) {
     mbx_calibration_summary s{};
     s.struct_size = sizeof s;
     mbx_calibration_get_summary(cal.h, &s);
-    std::printf("%s: baseline error %.2f %% fit, %.2f %% validation (replay); inverse dynamics %.2f %% / %.2f %%\n",
-                in.input.c_str(), s.baseline_simulated_fit_error, s.baseline_simulated_validation_error,
-                s.baseline_fit_error, s.baseline_validation_error);
+    // A contact calibration has no inverse dynamics (NaN): its figures are the replays'.
+    const bool id = std::isfinite(s.baseline_fit_error);
+    std::printf("%s: baseline error %.2f %% fit, %.2f %% validation (replay)", in.input.c_str(),
+                s.baseline_simulated_fit_error, s.baseline_simulated_validation_error);
+    if (id) std::printf("; inverse dynamics %.2f %% / %.2f %%", s.baseline_fit_error, s.baseline_validation_error);
+    std::printf("\n");
     if (s.cause_count == 0) std::printf("no cause named: the model explains the data within its noise\n");
     for (uint32_t i = 0; i < s.cause_count; ++i) {
         mbx_calibration_cause cause{};
@@ -112,8 +115,10 @@ int run_calibrate(const std::vector<std::string>& args) {
         std::printf(" -> %.2f %% / %.2f %%%s\n", cause.simulated_fit_error, cause.simulated_validation_error,
                     cause.written ? "" : " (reported only)");
     }
-    std::printf("calibrated error %.2f %% fit, %.2f %% validation (replay); inverse dynamics %.2f %% / %.2f %%\n",
-                s.final_simulated_fit_error, s.final_simulated_validation_error, s.final_fit_error, s.final_validation_error);
+    std::printf("calibrated error %.2f %% fit, %.2f %% validation (replay)", s.final_simulated_fit_error,
+                s.final_simulated_validation_error);
+    if (id) std::printf("; inverse dynamics %.2f %% / %.2f %%", s.final_fit_error, s.final_validation_error);
+    std::printf("\n");
     for (uint32_t i = 0; i < s.warning_count; ++i) std::printf("warning: %s\n", mbx_calibration_get_warning(cal.h, i));
     std::printf("report: %s/calibration.html\ndata: %s/calibration.json\ndescription: %s/description.xml (%.1f s)\n",
                 out_dir.c_str(), out_dir.c_str(), out_dir.c_str(), s.wall_time);

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "assemblies/builder.h"
 #include "support/plugin_fixture.h"
@@ -63,6 +64,8 @@ std::string experiment(const std::string& fit, const std::string& validation) {
 
 struct Calibrated {
     mbx_calibration_summary summary{};
+    std::vector<std::string> causes;
+    double mu = 0;
     std::string json;
 };
 
@@ -86,6 +89,24 @@ Calibrated calibrate(const std::string& description, const std::string& experime
     Calibrated r;
     r.summary.struct_size = sizeof r.summary;
     REQUIRE(a.calibration_get_summary(c, &r.summary) == MBX_OK);
+    // The contact causes are the calibration's causes, on the cube.
+    for (uint32_t i = 0; i < r.summary.cause_count; ++i) {
+        mbx_calibration_cause cause{};
+        cause.struct_size = sizeof cause;
+        REQUIRE(a.calibration_get_cause(c, i, &cause) == MBX_OK);
+        r.causes.push_back(cause.name);
+        CHECK(cause.subject_kind == MBX_SUBJECT_RIGID_BODY);
+        CHECK(std::string(cause.subject_id) == "cube/part");
+        CHECK(cause.written == 1);
+        CHECK(std::isnan(cause.validation_error));  // no inverse dynamics in a contact fit
+        if (r.causes.back() == "contact_friction") {
+            mbx_calibration_parameter p{};
+            p.struct_size = sizeof p;
+            REQUIRE(a.calibration_get_parameter(c, i, 1, &p) == MBX_OK);
+            CHECK(std::string(p.name) == "mu_kinetic");
+            r.mu = p.value;
+        }
+    }
     a.calibration_destroy(c);
     r.json = mbx_test::read_file(fs::path(out) / "calibration.json");
     return r;
@@ -124,6 +145,9 @@ TEST_CASE("contact calibration api: tosses in an experiment file name friction, 
         CHECK(first.json.find("\"cause\": \"contact_friction\"") != std::string::npos);
         // The C++ contact fit on its 12 training tosses names mu 0.205 (docs/contact.md).
         CHECK(std::abs(mu / 0.205 - 1) < 0.1);
+        REQUIRE(!first.causes.empty());
+        CHECK(first.causes[0] == "contact_friction");
+        CHECK(first.mu == mu);
         CHECK(first.summary.final_simulated_validation_error < 0.5 * first.summary.baseline_simulated_validation_error);
     }
 
