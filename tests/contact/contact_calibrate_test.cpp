@@ -183,3 +183,61 @@ TEST_CASE("contact stage: an experiment it cannot run is refused by name") {
     CHECK_THROWS_WITH_AS(calibration::calibrate(*cube.mechanism, {}, calibration::load_experiment(dir.file("vel.xml")), options),
                          doctest::Contains("compares positions and orientations"), Error);
 }
+
+TEST_CASE("contact stage: description.xml gets the named causes only, a restitution replaced, planes moved along their normals") {
+    calibration::ContactStageResult c;
+    c.ran = true, c.body = 1;
+    c.material_a = "wood", c.material_b = "board";
+    c.start.settings = naive_contact();
+    c.fit.model = c.start;
+    c.fit.model.settings.normal.damping = 3.57;
+    c.fit.model.ground_offset = -0.0012;
+    c.fit.steps.resize(2);
+    c.fit.steps[0].cause = "contact_damping", c.fit.steps[1].cause = "ground_offset";
+    pugi::xml_document doc;
+    REQUIRE(doc.load_string("<mechatronics version=\"1\">\n"
+                            "  <collision body=\"world\" shape=\"plane\" material=\"board\"/>\n"
+                            "  <collision body=\"world\" shape=\"plane\" xyz=\"0 0 10\" rpy=\"0 90 0\" unit=\"mm,deg\" material=\"board\"/>\n"
+                            "  <collision body=\"cube\" shape=\"box\" size=\"0.1 0.1 0.1\" material=\"wood\"/>\n"
+                            "  <contact a=\"board\" b=\"wood\" stiffness=\"1e6\" restitution=\"0.5\" impact_speed=\"2\" mu=\"0.5\"/>\n"
+                            "</mechatronics>\n"));
+    const pugi::xml_node root = doc.child("mechatronics");
+    const std::vector<std::string> notes = calibration::write_contact_update(root, c, "in.xml");
+    const pugi::xml_node entry = root.child("contact");
+    // Damping named: written, the restitution it replaces gone; friction and stiffness not named: as they were.
+    CHECK(entry.attribute("damping").as_double() == 3.57);
+    CHECK(!entry.attribute("restitution"));
+    CHECK(!entry.attribute("impact_speed"));
+    CHECK(std::string(entry.attribute("mu").as_string()) == "0.5");
+    CHECK(!entry.attribute("mu_static"));
+    CHECK(std::string(entry.attribute("stiffness").as_string()) == "1e6");
+    // The level plane 1.2 mm down; the tilted one (normal +x) 1.2 mm along -x, in its own mm.
+    pugi::xml_node plane = root.child("collision");
+    CHECK(std::string(plane.attribute("xyz").as_string()) == "0 0 -0.0012");
+    plane = plane.next_sibling("collision");
+    std::istringstream xyz(plane.attribute("xyz").as_string());
+    double x = 0, y = 0, z = 0;
+    xyz >> x >> y >> z;
+    CHECK(x == doctest::Approx(-1.2).epsilon(1e-12));
+    CHECK(std::abs(y) < 1e-15);
+    CHECK(z == doctest::Approx(10).epsilon(1e-12));
+    CHECK(std::string(root.child("collision").next_sibling("collision").next_sibling("collision").attribute("xyz").as_string()).empty());
+    REQUIRE(notes.size() == 1);
+    CHECK(notes[0].find("wood/board") != std::string::npos);
+
+    // No entry for the pair: a whole one is written; no plane to move: refused.
+    pugi::xml_document bare;
+    REQUIRE(bare.load_string("<mechatronics version=\"1\">\n  <collision body=\"cube\" shape=\"box\" size=\"0.1 0.1 0.1\"/>\n</mechatronics>\n"));
+    c.fit.steps.resize(1);
+    calibration::write_contact_update(bare.child("mechatronics"), c, "bare.xml");
+    const pugi::xml_node added = bare.child("mechatronics").child("contact");
+    REQUIRE(added);
+    CHECK(std::string(added.attribute("a").as_string()) == "wood");
+    CHECK(added.attribute("damping").as_double() == 3.57);
+    CHECK(added.attribute("mu_kinetic").as_double() == 0.5);
+    CHECK(added.attribute("stiffness").as_double() == 1e6);
+    c.fit.steps.resize(2);
+    c.fit.steps[1].cause = "ground_offset";
+    CHECK_THROWS_WITH_AS(calibration::write_contact_update(bare.child("mechatronics"), c, "bare.xml"),
+                         doctest::Contains("no <collision body=\"world\" shape=\"plane\">"), Error);
+}
