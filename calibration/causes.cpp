@@ -95,6 +95,8 @@ Eigen::MatrixXd Candidate::columns(const RegressionRows& rows) const {
             put(s, 0, a, 1.0);
         } else if (cause == "armature") {
             put(s, 0, a, rows.qdd(s, dof));
+        } else if (cause == "backlash" && parameters.size() == 2) {
+            put(s, 1, a, rows.qdd(s, dof));  // its rigid limit too
         } else if (cause == "compliance" && parameters.size() == 3) {
             // The rigid limit: the motor inertia is an armature; stiffness
             // and damping have no column (the simulation fit finds them).

@@ -136,7 +136,7 @@ void write_transmission(pugi::xml_node joint, const sim::Transmission& t, const 
         n = joint.append_child("transmission");
         joint.append_child(pugi::node_pcdata).set_value("\n  ");
     }
-    set_always(n, "stiffness", t.stiffness);
+    set_or_remove(n, "stiffness", t.stiffness);
     set_or_remove(n, "damping", t.damping);
     set_always(n, "motor_inertia", t.motor_inertia);
     set_or_remove(n, "backlash", t.backlash / f);

@@ -188,16 +188,17 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
                 unwritten("a negative stiffness (an effort that pushes away from the rest position) is no spring: "
                           "the description file cannot hold it");
             }
-        } else if (cause == "compliance") {
+        } else if (cause == "compliance" || cause == "backlash") {
             // The motor side the rigid model saw as armature, now an inertia
-            // of its own behind a spring and damper.
+            // of its own behind a spring and damper, or a dead band.
             sim::Transmission t;
             t.stiffness = parameter(c, "stiffness");
             t.damping = parameter(c, "damping");
+            t.backlash = parameter(c, "width");
             t.motor_inertia = parameter(c, "motor_inertia");
-            if (!(t.stiffness > 0 && t.motor_inertia > 0 && t.damping >= 0)) {
+            if (!((t.stiffness > 0 || t.backlash > 0) && t.motor_inertia > 0 && t.damping >= 0)) {
                 u.causes.pop_back();
-                unwritten("the fitted transmission is not physical (stiffness and motor inertia must be positive)");
+                unwritten("the fitted transmission is not physical (stiffness or width, and motor inertia, must be positive)");
                 continue;
             }
             const int k = drive_of(dof);

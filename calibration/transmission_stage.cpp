@@ -1,5 +1,8 @@
 #include "calibration/transmission_stage.h"
 
+#include <algorithm>
+#include <sstream>
+
 #include "core/finding.h"
 
 namespace mbx::calibration {
@@ -21,6 +24,145 @@ std::string joined(const std::vector<std::string>& v) {
     return s;
 }
 
+std::string percent(double x) {
+    std::ostringstream s;
+    s.precision(3);
+    s << x << " %";
+    return s.str();
+}
+
+// What the simulation fit holds of the named causes, at their values.
+std::vector<CauseStart> starts_of(const Identification& id) {
+    std::vector<CauseStart> out;
+    for (const SelectedCause& c : id.causes) {
+        std::vector<double> v;
+        for (const Estimate& e : c.parameters) v.push_back(e.value);
+        out.push_back({c.candidate, v});
+    }
+    return out;
+}
+
+// A backlash on one of the actuated joints: the joint whose dead band
+// (started from a grid of widths, the motor a third of the link) cuts the
+// simulated validation error most, named when its width is beyond
+// `backlash_t_ratio` standard errors and the cut is `backlash_relative_gain`
+// of the error at least; the causes the joint fit finds insignificant go.
+Identification add_backlash(const sim::Model& m, const std::vector<const Record*>& fit,
+                            const std::vector<const Record*>& validation, const Identification& linear,
+                            const std::vector<int>& actuated, const TransmissionOptions& options) {
+    Identification out = linear;
+    // The stops want steps of half a millisecond (1 ms time constant).
+    SimulationFitOptions o = options.fit;
+    o.substeps = std::max(o.substeps, int(std::ceil(fit.front()->sample_period() / 5e-4 - 1e-9)));
+    o.max_windows = std::min(o.max_windows, 8), o.max_iterations = std::min(o.max_iterations, 15);
+    std::vector<CauseStart> base = starts_of(linear);
+    // The model as it is, for the validation error: a viscous friction held at 0 stands for it.
+    std::vector<CauseStart> reference = base;
+    if (reference.empty()) {
+        Candidate none;
+        none.cause = "viscous_friction", none.joint = m.dof_joint[size_t(actuated.front())];
+        none.dof = actuated.front(), none.q_index = m.joints[size_t(none.joint)].q_index;
+        none.parameters = {"damping"};
+        reference.push_back({none, {0.0}});
+    }
+    SimulationFitOptions held = o;
+    held.hold_parameters = true;
+    double before = NAN;
+    try {
+        before = SimulationProblem(m, validation, reference, held).solve().final_error;
+    } catch (const Error& e) {
+        out.considered.push_back(std::string("backlash: the model as it is does not simulate: ") + e.what());
+        return out;
+    }
+    struct Best {
+        double after = INFINITY;
+        SimulationFit fit;
+        std::vector<CauseStart> trial;
+        std::string joint;
+    } best;
+    for (int dof : actuated) {
+        const int j = m.dof_joint[size_t(dof)];
+        const sim::JointT<double>& joint = m.joints[size_t(j)];
+        const double link = joint.reference_inertia;
+        if (!(link > 0)) continue;
+        Candidate k;
+        k.cause = "backlash", k.joint = j, k.dof = dof, k.q_index = joint.q_index;
+        k.parameters = {"width", "motor_inertia"};
+        const double motor = 0.3 * link;
+        // Widths: a few tenths of a degree to a few degrees (a tenth of a millimetre to a few on a slide).
+        const double unit = joint.kind == sim::JointKind::Prismatic ? 1e-3 : M_PI / 180;
+        double lowest = INFINITY, width = 0;
+        SimulationFitOptions probe = o;
+        probe.max_windows = std::max(4, o.max_windows / 2);
+        for (double w : {0.25, 0.5, 1.0, 2.0, 4.0}) {
+            std::vector<CauseStart> trial = base;
+            trial.push_back({k, {w * unit, motor}});
+            try {
+                SimulationProblem p(m, fit, trial, probe);
+                Eigen::VectorXd r;
+                if (!p.evaluate(p.start(), r)) continue;
+                if (r.squaredNorm() < lowest) lowest = r.squaredNorm(), width = w * unit;
+            } catch (const Error&) {
+            }
+        }
+        std::ostringstream line;
+        line << "backlash on joint '" << joint.name << "': ";
+        if (!(width > 0)) {
+            line << "no grid start simulates";
+            out.considered.push_back(line.str());
+            continue;
+        }
+        std::vector<CauseStart> trial = base;
+        trial.push_back({k, {width, motor}});
+        try {
+            const SimulationFit f = refine_by_simulation(m, fit, trial, o);
+            for (size_t c = 0; c < trial.size(); ++c)
+                for (size_t i = 0; i < trial[c].values.size(); ++i) trial[c].values[i] = f.parameters[c][i].value;
+            const double after = SimulationProblem(m, validation, trial, held).solve().final_error;
+            const Estimate& b = f.parameters.back()[0];
+            line << "from " << width << " (grid), width " << b.value << " +- " << b.std_error << ", simulated validation error "
+                 << percent(before) << " without, " << percent(after) << " with it";
+            out.considered.push_back(line.str());
+            if (b.value > options.backlash_t_ratio * b.std_error && after < best.after)
+                best = {after, f, trial, joint.name};
+        } catch (const Error& e) {
+            line << e.what();
+            out.considered.push_back(line.str());
+        }
+    }
+    if (!(best.after < (1 - options.backlash_relative_gain) * before)) return out;
+    std::vector<SelectedCause> kept;
+    for (size_t c = 0; c + 1 < best.trial.size(); ++c) {
+        const std::vector<Estimate>& est = best.fit.parameters[c];
+        bool significant = true;
+        for (const Estimate& e : est) significant = significant && std::fabs(e.value) > options.min_t_ratio * e.std_error;
+        if (!significant) {
+            out.warnings.push_back(best.trial[c].candidate.cause + " dropped: with backlash on joint '" + best.joint +
+                                   "' the simulation fit finds it insignificant");
+            continue;
+        }
+        SelectedCause s = linear.causes[c];
+        s.parameters = est;
+        kept.push_back(s);
+    }
+    SelectedCause sc;
+    sc.candidate = best.trial.back().candidate;
+    sc.parameters = best.fit.parameters.back();
+    std::ostringstream ev;
+    ev << "what the linear causes left (" << percent(linear.final_validation_error)
+       << " of the effort on validation) is a dead band: the link waits while the motor crosses it, so the rigid "
+          "model misses the effort at every load reversal; the dead band on joint '"
+       << best.joint << "' cuts the simulated position error on validation from " << percent(before) << " to "
+       << percent(best.after);
+    sc.evidence = ev.str();
+    // Its rigid limit is an armature: the inverse-dynamics figures stay the linear stage's.
+    sc.fit_error = linear.final_fit_error, sc.validation_error = linear.final_validation_error;
+    sc.validation_gain = 0;
+    kept.push_back(sc);
+    out.causes = kept;
+    return out;
+}
+
 }  // namespace
 
 sim::Model rigid_limit(const sim::Model& m) {
@@ -39,8 +181,12 @@ sim::Model rigid_limit(const sim::Model& m) {
 Identification transmission_stage(const sim::Model& m, const std::vector<const Record*>& fit,
                                   const std::vector<const Record*>& validation, const Identification& linear,
                                   const TransmissionOptions& options) {
-    const std::vector<std::string> joints = candidate_joints(m, linear);
-    if (joints.empty()) return linear;
+    std::vector<std::string> joints = candidate_joints(m, linear);
+    // A dead band's signature: the linear causes leave a large share of the
+    // effort (the rigid model misses it at every load reversal).
+    const bool dead_band = linear.final_validation_error > options.dead_band_left;
+    if (joints.empty() && !dead_band) return linear;
+    if (joints.empty()) joints.push_back("(every actuated joint, for backlash)");
     Identification out = linear;
     auto skip = [&](const std::string& why) {
         out.warnings.push_back("compliance was not tried on joint " + joined(joints) + ": " + why);
@@ -59,6 +205,14 @@ Identification transmission_stage(const sim::Model& m, const std::vector<const R
     Identification staged;
     try {
         staged = add_transmissions(m, fit, validation, linear, options);
+        bool named = false;
+        for (const SelectedCause& c : staged.causes) named = named || c.candidate.cause == "compliance";
+        if (!named && dead_band) {
+            std::vector<int> actuated;
+            for (const Signal& s : fit.front()->signals)
+                if (s.quantity == Quantity::Effort) actuated.push_back(s.dof);
+            if (!actuated.empty()) staged = add_backlash(m, fit, validation, staged, actuated, options);
+        }
     } catch (const Error& e) {
         return skip(std::string("the simulation fit failed: ") + e.what());
     }

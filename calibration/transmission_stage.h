@@ -1,8 +1,10 @@
 // The transmission stage of calibrate() (docs/calibration.md): after the
 // linear identification, an elastic transmission (`compliance`) in place of
 // the armature or gain the rigid model saw, fitted through the simulator
-// (calibration/nonlinear_fit.h add_transmissions), where the simulation fit
-// can carry the model; elsewhere a warning says why it was not tried.
+// (calibration/nonlinear_fit.h add_transmissions), or a dead band
+// (`backlash`) where the linear causes leave a large share of the effort,
+// where the simulation fit can carry the model; elsewhere a warning says why
+// it was not tried.
 #pragma once
 #include <string>
 #include <vector>
@@ -15,8 +17,11 @@
 namespace mbx::calibration {
 
 // `linear` with compliance named in place of an armature or actuator gain
-// when the simulation fit finds it (add_transmissions' tests), else as it
-// was. The stage runs on 1-dof trees whose named causes the simulation can
+// when the simulation fit finds it (add_transmissions' tests), else, when
+// the linear causes leave more than `dead_band_left` % of the validation
+// effort, with a backlash on the actuated joint where it cuts the simulated
+// validation error most (by `backlash_relative_gain` at least, its width
+// beyond `backlash_t_ratio` standard errors), else as it was. The stage runs on 1-dof trees whose named causes the simulation can
 // carry and that hold no transmission yet; where an armature or gain was
 // named and it cannot run, the returned warnings say why. Records whose
 // simulation fails (no effort on an actuated joint, too short) give a

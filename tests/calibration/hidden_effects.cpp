@@ -60,7 +60,7 @@ double HiddenEffect::parameter(const std::string& name) const {
 std::vector<std::string> generated_causes() {
     return {"viscous_friction", "coulomb_friction", "armature",          "mass_error",
             "effort_offset",    "actuator_gain",    "delay",             "sensor_offset",
-            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance"};
+            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance", "backlash"};
 }
 
 mbx_memory::Assembly two_link_arm_assembly() {
@@ -782,6 +782,9 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
         {"emps_axis", {{"compliance", P, 8, 20}}},
         {"two_link_arm", {{"compliance", S, 6, 14}}},
         {"two_link_arm", {{"compliance", E, 8, 16}}},
+        // Dead bands (widths in rad), appended likewise.
+        {"two_link_arm", {{"backlash", S, 0.01, 0.03}}},
+        {"two_link_arm", {{"backlash", E, 0.01, 0.03}}},
     };
     std::vector<CaseSpec> specs;
     std::map<std::string, int> used;

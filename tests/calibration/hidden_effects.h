@@ -104,8 +104,8 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed);
 // Every case into out_dir/<name>/ and all truths into out_dir/truth.json.
 std::vector<GeneratedCase> generate_suite(const std::vector<CaseSpec>& specs, const std::string& out_dir);
 
-// The causes the suite draws. generate_case also makes "backlash", which
-// mbx does not name yet (tests/calibration/nonlinear_fit_test.cpp fits it).
+// The causes the suite draws (backlash on the two-link arm only: the slide's
+// dead band is not named yet, docs/calibration.md).
 std::vector<std::string> generated_causes();
 
 }  // namespace mbx_test

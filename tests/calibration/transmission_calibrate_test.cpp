@@ -10,6 +10,7 @@
 
 #include "calibration/calibrate.h"
 #include "calibration/calibration_files.h"
+#include "calibration/model_extension.h"
 #include "calibration/transmission_stage.h"
 #include "hidden_effects.h"
 #include "mechatronics/drive_file.h"
@@ -109,4 +110,38 @@ TEST_CASE("calibration: the rigid limit of a transmission is its motor inertia a
     CHECK(rigid.joints[1].dynamics.armature == 0.02);
     CHECK(rigid.joints[1].reference_inertia == doctest::Approx(bare.joints[1].reference_inertia + 0.02));
     CHECK(rigid.joints[0].dynamics.armature == 0);
+}
+
+TEST_CASE("calibration: a named backlash becomes the joint's <transmission backlash> and the model's dead band") {
+    auto t = mbx_test::open_mechanism("two_link_arm");
+    const Mechanism& mech = *t->mechanism;
+    const sim::Model model = sim::build_model(mech, {});
+    CalibrationResult r;
+    r.steps.emplace_back();
+    SelectedCause b;
+    b.candidate.cause = "backlash", b.candidate.joint = 1, b.candidate.dof = 1, b.candidate.q_index = model.joints[1].q_index;
+    b.candidate.parameters = {"width", "motor_inertia"};
+    b.parameters = {{"width", 0.02, 0.004}, {"motor_inertia", 0.007, 1e-4}};
+    r.identification.causes.push_back(b);
+    const ModelExtension ext = extend(mech, {}, model, r.identification, 1, RegressionRows{});
+    CHECK(ext.unwritten.empty());
+    REQUIRE(ext.options.transmissions.size() == 1);
+    const sim::Model extended = extended_model(mech, ext, DriveMode::Effort);
+    REQUIRE(extended.transmissions.size() == 1);
+    CHECK(extended.transmissions[0].joint == 1);
+    CHECK(extended.transmissions[0].backlash == 0.02);
+    CHECK(extended.transmissions[0].stiffness == 0);
+    CHECK(extended.transmissions[0].motor_inertia == 0.007);
+    r.joints = ext.joints;
+    const std::string text = calibrated_description(mech, model, r, "");
+    MechatronicSpec spec;
+    std::vector<DriveError> errors;
+    load_drive_text(text, "description.xml", "", spec, errors);
+    for (const DriveError& x : errors) FAIL_CHECK(x.text());
+    REQUIRE(spec.joint_dynamics.size() == 1);
+    REQUIRE(spec.joint_dynamics[0].transmission);
+    CHECK(spec.joint_dynamics[0].transmission->backlash == 0.02);
+    CHECK(spec.joint_dynamics[0].transmission->stiffness == 0);
+    CHECK(spec.joint_dynamics[0].transmission->motor_inertia == 0.007);
+    CHECK(text.find("<transmission motor_inertia=\"0.007\" backlash=\"0.02\"/>") != std::string::npos);
 }
