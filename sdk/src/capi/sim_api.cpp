@@ -200,6 +200,9 @@ MBX_API mbx_status mbx_sim_set_state(mbx_context* context, mbx_sim_data* data, d
             throw;
         }
         if (v) d.v = Eigen::Map<const Eigen::VectorXd>(v, m.nv);
+        // Elastic transmissions' motors follow the joints the host placed,
+        // at rest against the load (sim/transmission.h).
+        if (q || v) settle_transmissions(m, d);
         d.time = time;
     });
 }
