@@ -51,16 +51,21 @@ void ContactWorld::evaluate(const Model& m, const Data& d, Eigen::VectorXd& tau,
         if (settings.friction_spring) {
             const Key key{c.shape_a, c.shape_b, c.feature};
             const auto it = anchors_.find(key);
-            FrictionState next;
-            // The anchor is a world point: right when one side is the world
-            // (the ground, fixed obstacles). The spring stretches with the
-            // moving side's point; when that is a, its force on b is the reverse.
+            // The anchor rides on one side, the carrier (the world when one
+            // side is the world, else a), and is kept in its frame: a box on
+            // a moving platform stays tied to the spot it sits on. The spring
+            // stretches with the other side's point; when that is a, its
+            // force on b is the reverse.
             const bool a_moves = ba != 0 && bb == 0;
-            const Eigen::Vector3d f_mover =
-                spring_friction(settings.friction, it == anchors_.end() ? FrictionState{} : it->second, c.point,
-                                c.normal, a_moves ? Eigen::Vector3d(-v_t) : v_t, cf.normal_force, next);
+            const Transform<double>& carrier = d.x_world[size_t(a_moves ? bb : ba)];
+            FrictionState last = it == anchors_.end() ? FrictionState{} : it->second;
+            last.anchor = carrier.apply(last.anchor);
+            FrictionState next;
+            const Eigen::Vector3d f_mover = spring_friction(settings.friction, last, c.point, c.normal,
+                                                            a_moves ? Eigen::Vector3d(-v_t) : v_t, cf.normal_force, next);
             cf.friction = a_moves ? Eigen::Vector3d(-f_mover) : f_mover;
             cf.sticking = next.sticking;
+            next.anchor = carrier.R.transpose() * (next.anchor - carrier.p);
             if (next_anchors && next.active) (*next_anchors)[key] = next;
         } else {
             cf.friction = regularised_friction(settings.friction, cf.normal_force, v_t, settings.smoothing_speed);

@@ -23,7 +23,9 @@ struct FrictionLaw {
 // Per-contact state of the friction spring.
 struct FrictionState {
     bool sticking = false;
-    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  // world point the contact is tied to
+    // The point the contact is tied to: a world point for spring_friction;
+    // ContactWorld keeps it in the frame of the body it rides on.
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     bool active = false;                               // false: a new contact (anchor at its point)
 };
 

@@ -3,7 +3,8 @@
 // with restitution e rebounds to e^2 of its height; a box resting on the
 // plane sinks m g / (4 k) on its four corners and stays level; on an incline
 // below atan(mu_s) the friction spring holds the box with zero creep, above
-// it the box slides at g (sin - mu_k cos).
+// it the box slides at g (sin - mu_k cos); a box on a gliding platform rides
+// along, its friction anchor carried by the platform.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -223,6 +224,70 @@ TEST_CASE("contact: a box pushed just below mu_s m g stays, just above it slides
             CHECK(accel == doctest::Approx((F - cs.friction.mu_kinetic * m * g) / m).epsilon(0.02).scale(0));
         }
     }
+}
+
+TEST_CASE("contact: a box on a moving platform rides along, its friction spring anchored on the platform") {
+    // A 50 kg platform gliding at 0.5 m/s on four frictionless feet, its top
+    // a half-space on the platform's body; a 1 kg box resting on that top
+    // at the same speed. Nothing pulls the box sideways, so it must stay
+    // where it sits on the platform. An anchor left at a world point would
+    // stretch at 0.5 m/s, break loose within a millisecond and drag the box
+    // back off the platform.
+    const double m_platform = 50, m_box = 1, a = 0.1, half = 0.5, thick = 0.1, foot = 0.02;
+    const double z_platform = foot + thick / 2, z_box = z_platform + thick / 2 + a / 2;
+    const Mat3 platform_inertia =
+        (m_platform / 12) * Eigen::Vector3d(4 * half * half + thick * thick, 4 * half * half + thick * thick,
+                                            8 * half * half).asDiagonal();
+    auto t = xtest::translate(mbx_test::free_parts(
+        "platform", {{m_platform, platform_inertia, Vec3(0, 0, z_platform)},
+                     {m_box, (m_box * a * a / 6) * Mat3::Identity(), Vec3(0, 0, z_box)}}));
+    const sim::Model model = sim::build_model(*t->mechanism);
+    REQUIRE(model.nv == 12);
+    std::vector<Shape> shapes = {ground()};
+    for (double sx : {-1.0, 1.0})
+        for (double sy : {-1.0, 1.0}) {
+            Shape f;
+            f.kind = ShapeKind::Sphere, f.name = "foot", f.body = 1, f.radius = foot, f.material = 1;
+            f.position = Eigen::Vector3d(sx * 0.8 * half, sy * 0.8 * half, -thick / 2);
+            shapes.push_back(f);
+        }
+    Shape top;
+    top.kind = ShapeKind::HalfSpace, top.name = "top", top.body = 1, top.material = 1;
+    top.position = Eigen::Vector3d(0, 0, thick / 2);
+    shapes.push_back(top);
+    Shape box = mbx_test::box_shape(2, a);
+    box.material = 2;
+    shapes.push_back(box);
+    ContactSettings feet = mbx_test::corner_contact(m_platform, 1e6);
+    feet.friction_spring = false, feet.friction.mu_static = feet.friction.mu_kinetic = 0;
+    const ContactSettings grip = mbx_test::corner_contact(m_box);
+    ContactWorld world(model, shapes, grip, {{0, 1, feet}, {1, 2, grip}});
+    sim::Data d(model);
+    // Free joints: position, quaternion (w x y z); velocities linear then angular.
+    d.q.setZero();
+    d.q.segment<3>(0) = Eigen::Vector3d(0, 0, z_platform - m_platform * g / (4 * 1e6));
+    d.q[3] = 1;
+    d.q.segment<3>(7) = Eigen::Vector3d(0, 0, z_box - m_platform * g / (4 * 1e6) - m_box * g / (4 * 1e5));
+    d.q[10] = 1;
+    d.v.setZero();
+    d.v[0] = d.v[6] = 0.5;
+    sim::IntegratorSettings s;
+    s.kind = sim::IntegratorKind::Euler, s.step = 1e-4;
+    const double offset0 = d.q[7] - d.q[0];
+    double largest_offset_change = 0;
+    bool sticking = true;
+    for (int k = 0; k < 20000; ++k) {
+        world.step(model, d, s);
+        largest_offset_change = std::max(largest_offset_change, std::abs(d.q[7] - d.q[0] - offset0));
+        if (k > 1000)
+            for (const ContactForce& f : world.forces())
+                if (f.contact.shape_b == int(shapes.size()) - 1) sticking = sticking && f.sticking;
+    }
+    MESSAGE("the platform travelled " << d.q[0] << " m; the box moved " << largest_offset_change
+                                      << " m at most on it");
+    CHECK(d.q[0] > 0.95);  // the platform glided on (frictionless feet)
+    CHECK(largest_offset_change < 1e-4);
+    CHECK(sticking);
 }
 
 TEST_CASE("contact: the same drop under RK4 and the accurate mode, whose steps see the contact force at every stage") {
