@@ -227,16 +227,35 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             };
             const Eigen::VectorXd rb = unexplained(cols[size_t(best)].col(0));
             const Candidate& cb = candidates[size_t(best)];
-            int rival = -1;
-            double rival_r = 0;
+            int rival = -1, close = -1;
+            double rival_r = 0, close_r = 0;
             for (size_t k = 0; k < candidates.size(); ++k) {
                 const Candidate& o = candidates[k];
                 if (int(k) == best || !(gain_of[k] > 0.5 * best_gain) || o.cause == cb.cause) continue;
+                const double r = std::abs(correlation(rb, unexplained(cols[k].col(0))));
+                if (r > options.ambiguous_correlation && r > close_r &&
+                    percent(current.sse_validation - gain_of[k], meas_v) <
+                        options.ambiguous_error_ratio * percent(current.sse_validation - best_gain, meas_v))
+                    close = int(k), close_r = r;
                 // Told apart when validation prefers the best one strongly (the BIC margin).
                 const double sse_rival = current.sse_validation - gain_of[k];
                 if (bic(sse_rival, nv, 1) - bic(best_fit.sse_validation, nv, 1) > options.bic_margin) continue;
-                const double r = std::abs(correlation(rb, unexplained(cols[k].col(0))));
                 if (r > options.max_rival_correlation && r > rival_r) rival = int(k), rival_r = r;
+            }
+            // Validation prefers the best one, but not by much, and another
+            // cause's column is nearly the same: named, with a warning that
+            // these records can hardly tell the two apart (a mass that
+            // carries nearly all the inertia against an actuator gain, say).
+            if (rival < 0 && close >= 0) {
+                const Candidate& o = candidates[size_t(close)];
+                std::ostringstream s;
+                s.precision(4);
+                s << cb.cause << " on " << subject_text(m, cb) << " is named, but " << o.cause << " on "
+                  << subject_text(m, o) << " explains nearly as much with a nearly equal column (r = " << close_r
+                  << ", validation " << percent(current.sse_validation - best_gain, meas_v) << " % against "
+                  << percent(current.sse_validation - gain_of[size_t(close)], meas_v)
+                  << " %): these records hardly tell them apart; a record with another load or motion would";
+                out.warnings.push_back(s.str());
             }
             if (rival >= 0) {
                 const Candidate& o = candidates[size_t(rival)];

@@ -52,6 +52,12 @@ struct IdentifyOptions {
     // above the second they are one parameter, named once.
     double max_rival_correlation = 0.99;
     double same_column_correlation = 0.999;
+    // A cause named over another whose column (beyond those named) still
+    // correlates above this, and whose validation error is within this
+    // factor of the named one's, gets a warning that the records hardly
+    // tell the two apart.
+    double ambiguous_correlation = 0.99;
+    double ambiguous_error_ratio = 1.5;
 };
 
 // Rows from records. Trees: the position of every coordinate must be

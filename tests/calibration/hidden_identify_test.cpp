@@ -197,6 +197,15 @@ TEST_CASE("calibration: the hidden-effect suite names each hidden cause, its sub
             auto& pm = per_mechanism[spec.mechanism];
             pm.first += v.within, ++pm.second;
             if (v.named) errors[g.hidden[0].cause].push_back(v.errors[0]);
+            // Another cause named in the hidden one's place: the selection
+            // must have warned that these records hardly tell the two apart.
+            if (!v.named && !id.causes.empty()) {
+                bool flagged = false;
+                for (const std::string& w : id.warnings)
+                    flagged = flagged || w.find(g.hidden[0].cause) != std::string::npos;
+                CHECK_MESSAGE(flagged, spec.name << ": named another cause without saying the records hardly tell it from "
+                                                 << g.hidden[0].cause);
+            }
         } else {
             ++pairs;
             pairs_right += v.within;
