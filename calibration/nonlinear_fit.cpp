@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "calibration/closed_chain.h"
@@ -298,6 +299,61 @@ ceres::CostFunction* cost_of(const SimulationProblem::Impl* p, const Window* w) 
 
 }  // namespace
 
+namespace {
+
+// The `want` windows (first samples, `len` long) holding the most reversals
+// of `dof`'s filtered effort in their middle (from 30 to 70 % of the window:
+// a clear load at the start, whose deflection the start takes, and time after
+// the reversal for the simulation to show it), in record order; windows without one
+// fill up evenly. A reversal counts when the effort passes from beyond -5 %
+// of its RMS to beyond +5 % or back, so noise about zero is not one.
+std::vector<std::pair<const Record*, size_t>> windows_at_reversals(const std::vector<std::pair<const Record*, size_t>>& all,
+                                                                   size_t len, int dof, double dt, double cutoff,
+                                                                   size_t want) {
+    std::map<const Record*, std::vector<double>> effort;
+    for (const auto& [r, k0] : all) {
+        if (effort.count(r)) continue;
+        const Signal* e = r->find(Quantity::Effort, dof);
+        effort[r] = e ? low_pass(e->values, dt, cutoff) : std::vector<double>();
+    }
+    std::vector<int> score(all.size(), 0);
+    for (size_t i = 0; i < all.size(); ++i) {
+        const std::vector<double>& f = effort[all[i].first];
+        if (f.empty()) continue;
+        double rms = 0;
+        for (double x : f) rms += x * x;
+        const double band = 0.05 * std::sqrt(rms / double(f.size()));
+        int side = 0;
+        const size_t k0 = all[i].second, end = std::min(f.size(), k0 + (7 * len) / 10);
+        if (std::fabs(f[k0]) < band) continue;  // the start's deflection is the load's: a clear one
+        side = f[k0] > 0 ? 1 : -1;
+        for (size_t k = k0 + (3 * len) / 10; k < end; ++k) {
+            const int now = f[k] > band ? 1 : f[k] < -band ? -1 : 0;
+            if (now != 0 && side != 0 && now != side) ++score[i];
+            if (now != 0) side = now;
+        }
+    }
+    std::vector<size_t> order(all.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return score[a] > score[b]; });
+    std::vector<char> take(all.size(), 0);
+    size_t taken = 0;
+    for (size_t i : order)
+        if (taken < want && score[i] > 0) take[i] = 1, ++taken;
+    // Too few reversals: the rest spread evenly over the windows not taken.
+    std::vector<size_t> rest;
+    for (size_t i = 0; i < all.size(); ++i)
+        if (!take[i]) rest.push_back(i);
+    const size_t more = want - taken;
+    for (size_t i = 0; i < more && !rest.empty(); ++i) take[rest[i * rest.size() / more]] = 1;
+    std::vector<std::pair<const Record*, size_t>> chosen;
+    for (size_t i = 0; i < all.size(); ++i)
+        if (take[i]) chosen.push_back(all[i]);
+    return chosen;
+}
+
+}  // namespace
+
 SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<const Record*>& records,
                                      const std::vector<CauseStart>& causes, const SimulationFitOptions& options)
     : impl_(std::make_unique<Impl>()) {
@@ -367,7 +423,11 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
     if (all.empty()) refuse("records too short for one simulation window of " + std::to_string(options.horizon) + " s");
     std::vector<std::pair<const Record*, size_t>> chosen;
     const size_t want = std::min(all.size(), size_t(options.max_windows));
-    for (size_t i = 0; i < want; ++i) chosen.push_back(all[i * all.size() / want]);
+    if (options.reversal_dof >= 0) {
+        chosen = windows_at_reversals(all, len, options.reversal_dof, P.dt, cutoff, want);
+    } else {
+        for (size_t i = 0; i < want; ++i) chosen.push_back(all[i * all.size() / want]);
+    }
 
     std::vector<int> elastic_dofs;
     for (const CauseStart& c : causes)

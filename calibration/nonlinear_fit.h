@@ -38,6 +38,11 @@ struct SimulationFitOptions {
     // validation error of a model as it is).
     bool hold_parameters = false;
     std::vector<int> held;  // parameters (stacked indices) held at their start
+    // Windows where this coordinate's measured effort reverses, in place of
+    // windows spread evenly (-1): a dead band shows only when the load
+    // crosses it, so evenly spread windows spend most of their residuals on
+    // stretches that say nothing about its width.
+    int reversal_dof = -1;
 };
 
 // A cause and the values its parameters start from (a candidate's

@@ -18,6 +18,7 @@ bash .ci/install-deps  # clang-15, libfuzzer-15-dev, libomp-15-dev among them
 out=${MBX_FUZZ_OUT:-$dir/artifacts}
 
 CC=clang-15 CXX=clang++-15 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMBX_FUZZ=ON \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
   -DMBX_BUILD_TESTS=OFF -DMBX_BUILD_BENCH=OFF >/dev/null
 cmake --build "$dir" -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
