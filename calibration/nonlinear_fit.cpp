@@ -297,10 +297,6 @@ ceres::CostFunction* cost_of(const SimulationProblem::Impl* p, const Window* w) 
     return f;
 }
 
-}  // namespace
-
-namespace {
-
 // The `want` windows (first samples, `len` long) holding the most reversals
 // of `dof`'s filtered effort in their middle (from 30 to 70 % of the window:
 // a clear load at the start, whose deflection the start takes, and time after
@@ -310,26 +306,30 @@ namespace {
 std::vector<std::pair<const Record*, size_t>> windows_at_reversals(const std::vector<std::pair<const Record*, size_t>>& all,
                                                                    size_t len, int dof, double dt, double cutoff,
                                                                    size_t want) {
-    std::map<const Record*, std::vector<double>> effort;
+    struct Load {
+        std::vector<double> effort;  // filtered
+        double band = 0;             // 5 % of its RMS
+    };
+    std::map<const Record*, Load> loads;
     for (const auto& [r, k0] : all) {
-        if (effort.count(r)) continue;
-        const Signal* e = r->find(Quantity::Effort, dof);
-        effort[r] = e ? low_pass(e->values, dt, cutoff) : std::vector<double>();
+        if (loads.count(r)) continue;
+        Load& l = loads[r];
+        if (const Signal* e = r->find(Quantity::Effort, dof)) l.effort = low_pass(e->values, dt, cutoff);
+        double sum = 0;
+        for (double x : l.effort) sum += x * x;
+        if (!l.effort.empty()) l.band = 0.05 * std::sqrt(sum / double(l.effort.size()));
     }
     std::vector<int> score(all.size(), 0);
     for (size_t i = 0; i < all.size(); ++i) {
-        const std::vector<double>& f = effort[all[i].first];
-        if (f.empty()) continue;
-        double rms = 0;
-        for (double x : f) rms += x * x;
-        const double band = 0.05 * std::sqrt(rms / double(f.size()));
-        int side = 0;
-        const size_t k0 = all[i].second, end = std::min(f.size(), k0 + (7 * len) / 10);
-        if (std::fabs(f[k0]) < band) continue;  // the start's deflection is the load's: a clear one
-        side = f[k0] > 0 ? 1 : -1;
-        for (size_t k = k0 + (3 * len) / 10; k < end; ++k) {
-            const int now = f[k] > band ? 1 : f[k] < -band ? -1 : 0;
-            if (now != 0 && side != 0 && now != side) ++score[i];
+        const Load& l = loads[all[i].first];
+        const std::vector<double>& f = l.effort;
+        const size_t k0 = all[i].second;
+        // The start's deflection is the load's: a clear one.
+        if (f.empty() || std::fabs(f[k0]) < l.band) continue;
+        int side = f[k0] > 0 ? 1 : -1;
+        for (size_t k = k0 + (3 * len) / 10, end = std::min(f.size(), k0 + (7 * len) / 10); k < end; ++k) {
+            const int now = f[k] > l.band ? 1 : f[k] < -l.band ? -1 : 0;
+            if (now != 0 && now != side) ++score[i];
             if (now != 0) side = now;
         }
     }

@@ -218,7 +218,7 @@ public:
         outline_ = &outline;
         // The model's vectors at their final size from the start: growing
         // them moved every frame (six strings and two Eigen blocks each)
-        // about twice over, 8 % of a 30k-part read. Frames per part are an
+        // about twice over (8 % of a 30k-part read's profile). Frames per part are an
         // estimate (4.4 in generated assemblies, about 8 in real exports: one
         // more growth there).
         size_t parts = 0, joints = 0;
