@@ -80,15 +80,16 @@ struct JointUpdate {
     std::vector<std::string> causes;  // the named causes it carries
 };
 
-// A body whose mass calibration corrected: the description file's
-// <body id mass_scale> (docs/mechatronics.md) gets `factor` on top of any
-// correction it already holds (the model calibrated already had it).
+// A body whose inertia calibration corrected: the description file's
+// <body id mass_scale com_shift inertia_change> (docs/mechatronics.md) gets
+// `correction` on top of any it already holds (the model calibrated
+// already had it).
 struct BodyUpdate {
     int sim_body = -1;
     int mechanism_body = -1;  // Mechanism::bodies index
     std::string id;           // the rigid body's id (its principal CAD part id)
     std::string name;
-    double factor = 1;        // mass and inertia times this, relative to the model as given
+    BodyCorrection correction;  // relative to the model as given
 };
 
 // A drive whose controller delay calibration changed.

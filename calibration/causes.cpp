@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "calibration/filters.h"
 
 namespace mbx::calibration {
@@ -54,6 +56,76 @@ double effort_before(const RegressionRows& rows, Eigen::Index s, int a, double d
     return (1 - w) * e(k0, a) + w * e(k1, a);
 }
 
+// The directions, in the body's inertial parameters, of one unit of a
+// centre-of-mass shift along each body axis (the inertia about the centre
+// of mass kept; first order) and of each inertia entry's change.
+Eigen::Matrix<double, kInertialParameters, 3> com_directions(const sim::Inertia<double>& inertia,
+                                                             const Eigen::Vector3d& anchor) {
+    Eigen::Matrix<double, kInertialParameters, 3> d = Eigen::Matrix<double, kInertialParameters, 3>::Zero();
+    const double m = inertia.mass;
+    const Eigen::Vector3d c = inertia.h / m;
+    const Eigen::Matrix3d one = Eigen::Matrix3d::Identity();
+    for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
+        // I_origin = I_com + m (|c|^2 1 - c c^T). A shift s adds
+        // m (2 (c.s) 1 - c s^T - s c^T) + m (|s|^2 1 - s s^T); the second
+        // part is B(a) s = m ((a.s) 1 - (a s^T + s a^T) / 2) at a = s.
+        const Eigen::Matrix3d dI = m * (2 * c.dot(e) * one - c * e.transpose() - e * c.transpose()) +
+                                   m * (anchor.dot(e) * one - 0.5 * (anchor * e.transpose() + e * anchor.transpose()));
+        d.col(k) << 0, m * e, dI(0, 0), dI(1, 1), dI(2, 2), dI(0, 1), dI(0, 2), dI(1, 2);
+    }
+    return d;
+}
+
+Eigen::Matrix<double, kInertialParameters, 6> inertia_directions() {
+    Eigen::Matrix<double, kInertialParameters, 6> d = Eigen::Matrix<double, kInertialParameters, 6>::Zero();
+    for (int k = 0; k < 6; ++k) d(4 + k, k) = 1;
+    return d;
+}
+
+// Of a family of directions, those whose effort the records can tell apart
+// (a shift along a joint axis of a planar arm changes no effort): a
+// column-pivoted QR of their weighted columns, in pivot order.
+std::vector<int> identifiable(const RegressionRows& rows, int body, const Eigen::MatrixXd& directions) {
+    const Eigen::Index A = Eigen::Index(rows.actuated.size());
+    Eigen::MatrixXd cols = rows.inertial_regressor[size_t(body)] * directions;
+    for (Eigen::Index r = 0; r < cols.rows(); ++r) cols.row(r) *= rows.weight[size_t(r % A)];
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(cols);
+    qr.setThreshold(1e-6);
+    std::vector<int> out;
+    for (Eigen::Index k = 0; k < qr.rank(); ++k) out.push_back(int(qr.colsPermutation().indices()[k]));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// mass_error variants of one body: its mass (and inertia alike), a centre
+// of mass shifted along each axis the records see or along all of them,
+// and each inertia entry they see changed, or all of them. One law per
+// body is named (identify), so the variants compete; single-axis ones keep
+// a shift along one axis from failing the significance test on the others.
+std::vector<Candidate> body_candidates(const RegressionRows& fit, int body, const sim::Inertia<double>& inertia) {
+    std::vector<Candidate> out;
+    auto add = [&](std::vector<std::string> names, Eigen::MatrixXd directions) {
+        Candidate c;
+        c.cause = "mass_error", c.body = body, c.body_inertia = inertia;
+        c.parameters = std::move(names), c.inertial_directions = std::move(directions);
+        out.push_back(std::move(c));
+    };
+    add({"mass_change"}, inertial_parameters(inertia));
+    auto family = [&](const Eigen::MatrixXd& directions, const char* const* names) {
+        const std::vector<int> seen = identifiable(fit, body, directions);
+        for (int k : seen) add({names[k]}, directions.col(k));
+        if (seen.size() < 2) return;
+        Eigen::MatrixXd all(kInertialParameters, Eigen::Index(seen.size()));
+        std::vector<std::string> all_names;
+        for (size_t i = 0; i < seen.size(); ++i) all.col(Eigen::Index(i)) = directions.col(seen[i]), all_names.push_back(names[seen[i]]);
+        add(all_names, all);
+    };
+    family(com_directions(inertia, Eigen::Vector3d::Zero()), Candidate::kComShiftNames);
+    family(inertia_directions(), Candidate::kInertiaChangeNames);
+    return out;
+}
+
 }  // namespace
 
 Eigen::MatrixXd Candidate::columns(const RegressionRows& rows) const {
@@ -77,12 +149,18 @@ Eigen::MatrixXd Candidate::columns(const RegressionRows& rows) const {
                              !rows.record_effort.empty();
     for (Eigen::Index s = 0; s < S; ++s) {
         if (cause == "mass_error") {
-            for (Eigen::Index k = 0; k < A; ++k) put(s, 0, k, rows.effort_of_body[size_t(body)](s, k));
+            const Eigen::MatrixXd& R = rows.inertial_regressor[size_t(body)];
+            for (Eigen::Index k = 0; k < A; ++k)
+                for (Eigen::Index p = 0; p < inertial_directions.cols(); ++p)
+                    put(s, int(p), k, R.row(s * A + k).dot(inertial_directions.col(p)));
             continue;
         }
         if (cause == "sensor_offset") {
             // A reading off by o puts the model at q - o: its effort changes by -o dtau/dq.
-            for (Eigen::Index k = 0; k < A; ++k) put(s, 0, k, -rows.effort_by_position[size_t(dof)](s, k));
+            // To second order, -o dtau/dq + o^2/2 d2tau/dq2: the secant through the anchor.
+            for (Eigen::Index k = 0; k < A; ++k)
+                put(s, 0, k, -rows.effort_by_position[size_t(dof)](s, k) +
+                                 0.5 * offset_anchor * rows.effort_by_position2[size_t(dof)](s, k));
             continue;
         }
         if (a < 0) continue;
@@ -131,8 +209,102 @@ bool Candidate::physical(const Eigen::VectorXd& theta) const {
     // but another machine: with every body's mass and the actuator's effort
     // gone, any record fits exactly (gain 0, masses 0).
     if (cause == "actuator_gain") return theta[0] < 0.9;
-    if (cause == "mass_error") return theta[0] > -0.9;
+    if (cause == "mass_error") {
+        const BodyCorrection b = body_correction(theta);
+        if (!(b.mass_scale > 0.1)) return false;
+        // A centre of mass moved beyond the body's own extent (its radius
+        // of gyration about the centre of mass, or half the centre's
+        // distance from the body origin for a compact body) is no CAD error
+        // but another cause's signature taken up.
+        if (!(b.com_shift.norm() <= largest_com_shift(body_inertia))) return false;
+        // An inertia about the centre of mass no rigid body has (not
+        // positive definite, or a principal moment above the sum of the
+        // other two) is a fit to noise or to another cause.
+        if (!b.inertia_change.isZero(0)) {
+            const double one = 1;
+            const sim::Inertia<double> c =
+                corrected_inertia(body_inertia, one, b.com_shift.data(), b.inertia_change.data());
+            const Eigen::Vector3d com = c.h / c.mass;
+            const Eigen::Matrix3d about = c.I - c.mass * (com.dot(com) * Eigen::Matrix3d::Identity() - com * com.transpose());
+            const Eigen::Vector3d p = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(about).eigenvalues();
+            if (!(p[0] > 0) || p[2] > p[0] + p[1]) return false;
+        }
+        return true;
+    }
     return true;
+}
+
+BodyCorrection BodyCorrection::after(const BodyCorrection& first) const {
+    BodyCorrection r;
+    r.mass_scale = first.mass_scale * mass_scale;
+    r.com_shift = first.com_shift + com_shift;
+    r.inertia_change = mass_scale * first.inertia_change + inertia_change;
+    return r;
+}
+
+double largest_com_shift(const sim::Inertia<double>& inertia) {
+    const double m = inertia.mass;
+    if (!(m > 0)) return 0;
+    const Eigen::Vector3d c = inertia.h / m;
+    const double about_com = inertia.I.trace() - 2 * m * c.squaredNorm();
+    return std::max(std::sqrt(std::max(0.0, about_com) / m), 0.5 * c.norm());
+}
+
+bool Candidate::shifts_com() const {
+    for (const std::string& p : parameters)
+        for (const char* n : kComShiftNames)
+            if (p == n) return true;
+    return false;
+}
+
+void Candidate::anchor_com_shift(const Eigen::VectorXd& theta) {
+    com_anchor = body_correction(theta).com_shift;
+    const Eigen::Matrix<double, kInertialParameters, 3> d = com_directions(body_inertia, com_anchor);
+    for (size_t i = 0; i < parameters.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+            if (parameters[i] == kComShiftNames[k]) inertial_directions.col(Eigen::Index(i)) = d.col(k);
+}
+
+BodyCorrection Candidate::body_correction(const Eigen::VectorXd& theta) const {
+    BodyCorrection b;
+    body_correction(theta.data(), b.mass_scale, b.com_shift.data(), b.inertia_change.data());
+    // Entries the records cannot see (a planar arm sees only the moment
+    // about its joints' axis) are no evidence of anything, but a change of
+    // the others alone may leave a body no material has (one moment above
+    // the sum of the other two). The unseen moments then grow alike, by the
+    // least that makes the body whole again: what these records identify
+    // stays as found, and the description file holds a real body.
+    bool seen[6] = {false, false, false, false, false, false};
+    for (const std::string& p : parameters)
+        for (int k = 0; k < 6; ++k) seen[k] = seen[k] || p == kInertiaChangeNames[k];
+    std::vector<int> unseen;
+    for (int k = 0; k < 3; ++k)
+        if (!seen[k]) unseen.push_back(k);
+    if (b.inertia_change.isZero(0) || unseen.empty() || !(body_inertia.mass > 0)) return b;
+    const double m = body_inertia.mass;
+    const Eigen::Vector3d c = body_inertia.h / m;
+    const Eigen::Matrix3d about = body_inertia.I - m * (c.dot(c) * Eigen::Matrix3d::Identity() - c * c.transpose());
+    auto excess = [&](double t) {
+        Eigen::Matrix<double, 6, 1> e = b.inertia_change;
+        for (int k : unseen) e[k] += t;
+        Eigen::Matrix3d I = b.mass_scale * about;
+        I(0, 0) += e[0], I(1, 1) += e[1], I(2, 2) += e[2];
+        I(0, 1) += e[3], I(1, 0) += e[3], I(0, 2) += e[4], I(2, 0) += e[4], I(1, 2) += e[5], I(2, 1) += e[5];
+        const Eigen::Vector3d p = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
+        return std::max(p[2] - p[0] - p[1], -p[0]);
+    };
+    if (!(excess(0) > 0)) return b;
+    // The excess falls as the unseen moments grow (each adds to both sides
+    // of at most one inequality's right-hand side): bisect for the least.
+    double lo = 0, hi = std::max(1e-300, b.inertia_change.cwiseAbs().maxCoeff());
+    for (int it = 0; it < 60 && excess(hi) > 0; ++it) hi *= 2;
+    if (excess(hi) > 0) return b;  // none will do: physical() refuses it
+    for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (excess(mid) > 0 ? lo : hi) = mid;
+    }
+    for (int k : unseen) b.inertia_change[k] += hi;
+    return b;
 }
 
 std::vector<Candidate> catalogue(const sim::Model& m, const RegressionRows& fit) {
@@ -170,10 +342,9 @@ std::vector<Candidate> catalogue(const sim::Model& m, const RegressionRows& fit)
         out.push_back(c);
     }
     for (int b = 1; b < m.body_count(); ++b) {
-        if (!(m.bodies[size_t(b)].inertia.mass > 0)) continue;
-        Candidate c;
-        c.cause = "mass_error", c.body = b, c.parameters = {"mass_change"};
-        out.push_back(c);
+        const sim::Inertia<double>& inertia = m.bodies[size_t(b)].inertia;
+        if (!(inertia.mass > 0)) continue;
+        for (Candidate& c : body_candidates(fit, b, inertia)) out.push_back(std::move(c));
     }
     return out;
 }

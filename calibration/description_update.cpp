@@ -35,6 +35,13 @@ std::string number_text(double v) {
     return s;
 }
 
+// Numbers separated by blanks, each as number_text writes it.
+template <class V> std::string numbers_text(const V& v) {
+    std::string s;
+    for (Eigen::Index k = 0; k < v.size(); ++k) s += (k ? " " : "") + number_text(v[k]);
+    return s;
+}
+
 // The SI factor of a description file's position unit; false if unknown.
 bool unit_factor(const std::string& unit, double& factor) {
     factor = 1;
@@ -164,8 +171,15 @@ std::string summary(const sim::Model& model, const CalibrationResult& r, bool de
     for (const DriveUpdate& d : r.drives)
         s << "\n     drive " << d.name << " (" << d.constraint_id << "): controller delay " << number_text(d.delay_before)
           << " s -> " << number_text(d.delay_after) << " s";
-    for (const BodyUpdate& b : r.bodies)
-        s << "\n     body " << b.name << " (" << b.id << "): mass and inertia times " << number_text(b.factor);
+    for (const BodyUpdate& b : r.bodies) {
+        const BodyCorrection& c = b.correction;
+        s << "\n     body " << b.name << " (" << b.id << "):";
+        if (c.mass_scale != 1) s << " mass and inertia times " << number_text(c.mass_scale);
+        if (!c.com_shift.isZero(0))
+            s << " centre of mass moved by (" << number_text(c.com_shift[0]) << ", " << number_text(c.com_shift[1])
+              << ", " << number_text(c.com_shift[2]) << ") m";
+        if (!c.inertia_change.isZero(0)) s << " inertia about it changed by " << numbers_text(c.inertia_change) << " kg m^2";
+    }
     for (const std::string& n : notes) s << "\n     " << n;
     for (const UnwrittenCause& u : r.unwritten) {
         const SelectedCause& c = r.identification.causes[size_t(u.cause)];
@@ -274,21 +288,32 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
     pugi::xml_node last_body;
     for (pugi::xml_node n : root.children("body")) last_body = n;
     for (const BodyUpdate& b : r.bodies) {
-        if (!(std::isfinite(b.factor) && b.factor > 0))
-            fail(file, 0, "the calibrated mass factor " + number_text(b.factor) + " of body " + b.name + " is not positive");
+        const BodyCorrection& c = b.correction;
+        if (!(std::isfinite(c.mass_scale) && c.mass_scale > 0))
+            fail(file, 0, "the calibrated mass factor " + number_text(c.mass_scale) + " of body " + b.name + " is not positive");
+        if (!c.com_shift.allFinite() || !c.inertia_change.allFinite())
+            fail(file, 0, "the calibrated centre of mass or inertia of body " + b.name + " is not finite");
         pugi::xml_node n;
         for (pugi::xml_node e : root.children("body"))
             if (b.id == e.attribute("id").as_string()) n = e;
-        double scale = b.factor;
+        BodyCorrection total = c;
         if (n) {
-            scale *= n.attribute("mass_scale").as_double(1.0);
+            // (the description was read already: its values are well formed)
+            BodyCorrection given;
+            given.mass_scale = n.attribute("mass_scale").as_double(1.0);
+            parse_xml_numbers(n.attribute("com_shift").as_string("0 0 0"), 3, given.com_shift.data());
+            parse_xml_numbers(n.attribute("inertia_change").as_string("0 0 0 0 0 0"), 6, given.inertia_change.data());
+            total = c.after(given);
         } else {
             pugi::xml_node anchor = last_body ? last_body : last_joint ? last_joint : last_non_text(root);
             n = insert_element(root, anchor, "body");
             n.append_attribute("id") = b.id.c_str();
             last_body = n;
         }
-        set_always(n, "mass_scale", scale);
+        set_always(n, "mass_scale", total.mass_scale);
+        if (!total.com_shift.isZero(0)) n.remove_attribute("com_shift"), n.append_attribute("com_shift") = numbers_text(total.com_shift).c_str();
+        if (!total.inertia_change.isZero(0))
+            n.remove_attribute("inertia_change"), n.append_attribute("inertia_change") = numbers_text(total.inertia_change).c_str();
     }
 
     for (const std::string& n : write_contact_update(root, r.contact, file)) notes.push_back(n);

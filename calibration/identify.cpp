@@ -110,9 +110,27 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             for (int k : best_at)
                 if (k >= 0) stribeck_best[size_t(k)] = 1;
         }
+        // A candidate whose columns the named causes already span (to the
+        // same-column correlation) adds nothing but a fit to the noise, with
+        // huge opposite coefficients: a centre of mass moved across the last
+        // link after that joint's sensor offset, say.
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> named_qr;
+        if (X.cols() > 0) named_qr.compute(X);
+        const double least_new = std::sqrt(std::max(0.0, 1 - options.same_column_correlation * options.same_column_correlation));
+        // (Any combination of its columns: an orthonormal basis of them,
+        // less what the named columns explain, has a small singular value.)
+        auto spanned = [&](const Eigen::MatrixXd& ck) {
+            if (X.cols() == 0 || ck.cols() == 0) return false;
+            const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ck);
+            const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(ck.rows(), ck.cols());
+            const Eigen::MatrixXd left = basis - X * named_qr.solve(basis);
+            const Eigen::JacobiSVD<Eigen::MatrixXd> svd(left);
+            return svd.singularValues().minCoeff() < least_new;
+        };
         for (size_t k = 0; k < candidates.size(); ++k) {
             if (taken(candidates[k])) continue;
             if (candidates[k].cause == "stribeck_friction" && !stribeck_best[k]) continue;
+            if (spanned(cols[k])) continue;
             auto fit_with = [&](const Eigen::MatrixXd& ck, const Eigen::MatrixXd& cvk) {
                 Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
                 X2 << X, ck;
@@ -138,6 +156,36 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                     if (!g.ok) break;
                     candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
                     if (settled) break;
+                }
+            } else if (candidates[k].cause == "sensor_offset") {
+                // Its column's second-order part at the offset found: a fixed point, as for a shift.
+                Candidate c = candidates[k];
+                for (int it = 0; it < 8; ++it) {
+                    const double o = f.theta[X.cols()];
+                    const double before = c.offset_anchor;
+                    c.offset_anchor = o;
+                    const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                    const Fit g = fit_with(ck, cvk);
+                    if (!g.ok) break;
+                    candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+                    if (std::abs(o - before) <= 1e-6 * std::abs(o)) break;
+                }
+            } else if (candidates[k].shifts_com()) {
+                // The shift's columns through the shift found: a fixed point
+                // a few steps from the first-order estimate (the quadratic
+                // part of a shift would otherwise pass for an armature).
+                Candidate c = candidates[k];
+                const double size = largest_com_shift(c.body_inertia);
+                for (int it = 0; it < 8; ++it) {
+                    const Eigen::VectorXd th = f.theta.segment(X.cols(), cols[k].cols());
+                    if (!(th.norm() <= size)) break;  // no shift of this body: another cause's signature
+                    const Eigen::Vector3d before = c.com_anchor;
+                    c.anchor_com_shift(th);
+                    const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                    const Fit g = fit_with(ck, cvk);
+                    if (!g.ok) break;
+                    candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+                    if ((c.com_anchor - before).norm() <= 1e-6 * c.com_anchor.norm()) break;
                 }
             } else if (candidates[k].cause == "stribeck_friction") {
                 // The Stribeck speed and the sign's smoothing speed (the
@@ -195,6 +243,26 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 out.considered.push_back(s.str());
             }
             if (!significant || !c.physical(th)) continue;
+            // Nor may it make a cause named before unphysical in the joint
+            // fit (a gain deficit pushed to all of the effort by a shift that
+            // takes over its part).
+            bool named_physical = true;
+            for (size_t i = 0, at = 0; i < chosen.size(); ++i) {
+                const Eigen::Index n = cols[chosen[i]].cols();
+                named_physical = named_physical && candidates[chosen[i]].physical(f.theta.segment(Eigen::Index(at), n));
+                at += size_t(n);
+            }
+            if (!named_physical) continue;
+            // Nor one whose parameters the joint fit cannot tell from a named
+            // cause's (a loop's coupler shifted against the crank's gain):
+            // what it adds is the noise the pair can fit, not evidence.
+            bool apart = true;
+            for (Eigen::Index i = p0; i < p0 + np && apart; ++i)
+                for (Eigen::Index j = 0; j < p0; ++j) {
+                    const double r = f.covariance(i, j) / std::sqrt(f.covariance(i, i) * f.covariance(j, j));
+                    if (std::abs(r) > options.max_rival_correlation) apart = false;
+                }
+            if (!apart) continue;
             gain_of[k] = gain;
             if (gain > best_gain) best = int(k), best_gain = gain, best_fit = f;
         }

@@ -58,7 +58,7 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
                       const Identification& id, size_t count, const RegressionRows& fit) {
     ModelExtension ext;
     ext.options = base;
-    ext.body_mass_factor.assign(model.bodies.size(), 1.0);
+    ext.body_corrections.assign(model.bodies.size(), BodyCorrection());
     ext.drive_gain.assign(model.drives.size(), 1.0);
     ext.adjust = ReplayAdjustments(model.nv);
     auto drive_of = [&](int dof) {
@@ -73,8 +73,10 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
         auto unwritten = [&](const std::string& reason) { ext.unwritten.push_back({int(i), reason}); };
         if (cause == "mass_error") {
             const int b = c.candidate.body;
-            const double factor = 1 + parameter(c, "mass_change");
-            ext.body_mass_factor[size_t(b)] *= factor;
+            Eigen::VectorXd theta(Eigen::Index(c.parameters.size()));
+            for (size_t k = 0; k < c.parameters.size(); ++k) theta[Eigen::Index(k)] = c.parameters[k].value;
+            const BodyCorrection correction = c.candidate.body_correction(theta);
+            ext.body_corrections[size_t(b)] = correction.after(ext.body_corrections[size_t(b)]);
             const sim::BodyT<double>& body = model.bodies[size_t(b)];
             if (body.source < 0) {
                 unwritten("the body has no CAD part to hold a mass correction");
@@ -84,10 +86,10 @@ ModelExtension extend(const Mechanism& mech, const sim::BuildOptions& base, cons
             for (BodyUpdate& x : ext.bodies)
                 if (x.sim_body == b) u = &x;
             if (!u) {
-                ext.bodies.push_back({b, body.source, mech.bodies[size_t(body.source)].id, body.name, 1.0});
+                ext.bodies.push_back({b, body.source, mech.bodies[size_t(body.source)].id, body.name, {}});
                 u = &ext.bodies.back();
             }
-            u->factor *= factor;
+            u->correction = correction.after(u->correction);
             continue;
         }
         if (cause == "sensor_offset") {
@@ -225,11 +227,10 @@ sim::Model extended_model(const Mechanism& mech, const ModelExtension& ext, Driv
     for (size_t k = 0; k < options.drives.size() && k < ext.drive_gain.size(); ++k)
         options.drives[k].efficiency *= ext.drive_gain[k];
     sim::Model m = sim::build_model(mech, options);
-    for (size_t b = 1; b < m.bodies.size() && b < ext.body_mass_factor.size(); ++b) {
-        const double f = ext.body_mass_factor[b];
-        if (f == 1) continue;
-        sim::Inertia<double>& in = m.bodies[b].inertia;
-        in.mass *= f, in.h *= f, in.I *= f;
+    for (size_t b = 1; b < m.bodies.size() && b < ext.body_corrections.size(); ++b) {
+        const BodyCorrection& c = ext.body_corrections[b];
+        if (c.identity()) continue;
+        m.bodies[b].inertia = corrected_inertia(m.bodies[b].inertia, c.mass_scale, c.com_shift.data(), c.inertia_change.data());
     }
     if (mode != DriveMode::ClosedLoop) {
         // The recorded effort replaces the controllers; the rotors' inertia,

@@ -121,9 +121,10 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
         const Candidate& k = causes[c].candidate;
         const S* p = theta + offset[c];
         if (k.cause == "mass_error") {
+            S scale, shift[3], change[6];
+            k.body_correction(p, scale, shift, change);
             sim::Inertia<S>& I = m.bodies[size_t(k.body)].inertia;
-            const S f = S(1) + p[0];
-            I.mass = I.mass * f, I.h = I.h * f, I.I = I.I * f;
+            I = corrected_inertia(I, scale, shift, change);
             continue;
         }
         sim::JointDynamicsT<S>& jd = m.joints[size_t(k.joint)].dynamics;
@@ -565,7 +566,10 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
         if (cause == "viscous_friction" || cause == "coulomb_friction" || cause == "armature" || cause == "delay")
             problem.SetParameterLowerBound(theta.data(), o, 0.0);
         if (cause == "actuator_gain") problem.SetParameterUpperBound(theta.data(), o, 0.9);
-        if (cause == "mass_error") problem.SetParameterLowerBound(theta.data(), o, -0.9);
+        if (cause == "mass_error")
+            for (size_t i = 0; i < P.causes[c].candidate.parameters.size(); ++i)
+                if (P.causes[c].candidate.parameters[i] == "mass_change")
+                    problem.SetParameterLowerBound(theta.data(), o + int(i), -0.9);
         if (cause == "backlash") {
             problem.SetParameterLowerBound(theta.data(), o, 0.0);
             problem.SetParameterLowerBound(theta.data(), o + 1, 1e-3 * theta[size_t(o + 1)]);

@@ -28,14 +28,29 @@ Eigen::VectorXd RegressionRows::measured() const {
     return r;
 }
 
+Eigen::Matrix<double, kInertialParameters, 1> inertial_parameters(const sim::Inertia<double>& inertia) {
+    Eigen::Matrix<double, kInertialParameters, 1> p;
+    const Eigen::Matrix3d& I = inertia.I;
+    p << inertia.mass, inertia.h, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2);
+    return p;
+}
+
+sim::Inertia<double> inertia_of_parameters(const Eigen::Matrix<double, kInertialParameters, 1>& p) {
+    sim::Inertia<double> r;
+    r.mass = p[0];
+    r.h = p.segment<3>(1);
+    r.I << p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6];
+    return r;
+}
+
 namespace {
 
-// The model with every body's inertia but one taken away (and no armature,
-// no joint dynamics): its inverse dynamics is that body's share of the effort.
-sim::Model only_body(const sim::Model& m, int body) {
+// The model without inertia (and no armature, no joint dynamics): one body
+// given a unit inertial parameter at a time, its inverse dynamics is a
+// column of that body's inertial regressor.
+sim::Model without_inertia(const sim::Model& m) {
     sim::Model r = m;
-    for (size_t b = 1; b < r.bodies.size(); ++b)
-        if (int(b) != body) r.bodies[b].inertia = sim::Inertia<double>();
+    for (sim::BodyT<double>& b : r.bodies) b.inertia = sim::Inertia<double>();
     for (sim::JointT<double>& j : r.joints) j.dynamics = sim::JointDynamics();
     return r;
 }
@@ -86,8 +101,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         actuated_at[a] = Eigen::Index(std::find(chain.independent.begin(), chain.independent.end(), rows.actuated[a]) -
                                       chain.independent.begin());
 
-    std::vector<sim::Model> body_models;
-    for (int b = 1; b < m.body_count(); ++b) body_models.push_back(only_body(m, b));
+    sim::Model unit = without_inertia(m);
 
     struct Sample {
         Eigen::VectorXd q, qd, qdd, effort, rate;
@@ -152,10 +166,9 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     rows.q.resize(S, m.nq), rows.qd.resize(S, m.nv), rows.qdd.resize(S, m.nv);
     rows.effort.resize(S, A), rows.effort_rate.resize(S, A), rows.model_effort.resize(S, A);
     rows.effort_by_position.assign(size_t(m.nv), Eigen::MatrixXd::Zero(S, A));
-    rows.effort_of_body.assign(size_t(m.body_count()), Eigen::MatrixXd::Zero(S, A));
-    sim::Data d(m), probe(m);
-    std::vector<sim::Data> body_data;
-    for (const sim::Model& bm : body_models) body_data.emplace_back(bm);
+    rows.effort_by_position2 = rows.effort_by_position;
+    rows.inertial_regressor.assign(size_t(m.body_count()), Eigen::MatrixXd::Zero(S * A, kInertialParameters));
+    sim::Data d(m), probe(m), unit_data(unit);
     // The actuated efforts the model needs at a sample (positions in dd.q,
     // the loops closed from there): the tree's inverse dynamics, projected
     // onto the independent coordinates when there are loops.
@@ -174,7 +187,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             for (Eigen::Index a = 0; a < A; ++a) out[a] = tau[rows.actuated[size_t(a)]];
         }
     };
-    Eigen::VectorXd base, moved;
+    Eigen::VectorXd base, moved, moved_back;
     for (Eigen::Index s = 0; s < S; ++s) {
         const Sample& x = kept[size_t(s)];
         // Dependent positions start from the last sample's (or the assembly pose at a record's start).
@@ -192,25 +205,40 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         rows.model_effort.row(s) = base.transpose();
         // Sensitivity to each measured position (a sensor offset shifts the
         // whole measured motion by it; in a loop the others follow).
+        // Central differences: the second derivative makes a sensor offset's
+        // column exact to second order (its quadratic part would otherwise
+        // be left for another cause).
         for (int dof : chain.independent) {
             const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
-            const double h = 1e-6 * std::max(1.0, std::abs(x.q[qi]));
-            probe.q = q_full;
-            probe.q[qi] += h;
-            Sample shifted = x;
-            shifted.q[qi] += h;
-            needed(probe, shifted, moved);
-            rows.effort_by_position[size_t(dof)].row(s) = ((moved - base) / h).transpose();
+            const double h = 1e-4 * std::max(1.0, std::abs(x.q[qi]));
+            for (int side : {1, -1}) {
+                probe.q = q_full;
+                probe.q[qi] += side * h;
+                Sample shifted = x;
+                shifted.q[qi] += side * h;
+                needed(probe, shifted, side > 0 ? moved : moved_back);
+            }
+            rows.effort_by_position[size_t(dof)].row(s) = ((moved - moved_back) / (2 * h)).transpose();
+            rows.effort_by_position2[size_t(dof)].row(s) = ((moved - 2 * base + moved_back) / (h * h)).transpose();
         }
-        for (size_t b = 0; b < body_models.size(); ++b) {
-            sim::Data& bd = body_data[b];
-            bd.q = q_full, bd.v = qd_full;
-            sim::update_kinematics(body_models[b], bd);
-            sim::inverse_dynamics(body_models[b], bd, qdd_full, tau);
-            const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
-            for (Eigen::Index a = 0; a < A; ++a)
-                rows.effort_of_body[b + 1](s, a) =
-                    share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
+        // Inverse dynamics is linear in each body's inertial parameters:
+        // one pass per body and unit parameter (kinematics shared).
+        unit_data.q = q_full, unit_data.v = qd_full;
+        sim::update_kinematics(unit, unit_data);
+        for (int b = 1; b < m.body_count(); ++b) {
+            if (!(m.bodies[size_t(b)].inertia.mass > 0)) continue;  // massless CAD joint nodes
+            Eigen::Matrix<double, kInertialParameters, 1> e = Eigen::Matrix<double, kInertialParameters, 1>::Zero();
+            for (int k = 0; k < kInertialParameters; ++k) {
+                e.setZero();
+                e[k] = 1;
+                unit.bodies[size_t(b)].inertia = inertia_of_parameters(e);
+                sim::inverse_dynamics(unit, unit_data, qdd_full, tau);
+                const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
+                for (Eigen::Index a = 0; a < A; ++a)
+                    rows.inertial_regressor[size_t(b)](s * A + a, k) =
+                        share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
+            }
+            unit.bodies[size_t(b)].inertia = sim::Inertia<double>();
         }
     }
     if (weights) {

@@ -11,6 +11,12 @@
 
 namespace mbx::calibration {
 
+// A body's inertial parameters at its frame's origin, in this order: mass,
+// first moment m c (3), inertia about the origin (xx yy zz xy xz yz).
+constexpr int kInertialParameters = 10;
+Eigen::Matrix<double, kInertialParameters, 1> inertial_parameters(const sim::Inertia<double>& inertia);
+sim::Inertia<double> inertia_of_parameters(const Eigen::Matrix<double, kInertialParameters, 1>& p);
+
 // The regression data of one set of records (fit or validation): rows are
 // (decimated sample, actuated joint) pairs.
 struct RegressionRows {
@@ -21,10 +27,16 @@ struct RegressionRows {
     Eigen::MatrixXd q, qd, qdd;
     // Per sample and actuated coordinate (samples x actuated).
     Eigen::MatrixXd effort, effort_rate, model_effort;
-    // d model_effort / d q_j, per coordinate j: (samples x actuated) each.
-    std::vector<Eigen::MatrixXd> effort_by_position;
-    // Inverse dynamics of one body's inertia alone (gravity included), per body.
-    std::vector<Eigen::MatrixXd> effort_of_body;
+    // d model_effort / d q_j and d^2 model_effort / d q_j^2, per coordinate
+    // j: (samples x actuated) each.
+    std::vector<Eigen::MatrixXd> effort_by_position, effort_by_position2;
+    // Per body, the actuated efforts' derivative with respect to the body's
+    // ten inertial parameters (inverse dynamics is linear in them, gravity
+    // included): (samples * actuated) x 10, rows sample-major as y(), columns
+    // kInertialParameters. Times the body's own parameters it is the body's
+    // share of the effort; times their change, what a mass, centre-of-mass or
+    // inertia error changes.
+    std::vector<Eigen::MatrixXd> inertial_regressor;
     // The filtered signals between the rows, per record: columns that are
     // nonlinear in the motion are evaluated at the full rate and filtered
     // like the effort (a friction law's step at a reversal reaches the

@@ -1,8 +1,8 @@
-// The calibrated description file fed back: a mass error MuJoCo hid in the
-// two-link arm's forearm is named, written as the forearm's <body
-// mass_scale>, and the model built from that file (the correction applied to
-// the mechanism, as mbx_mechanism_set_mechatronics does) replays with the
-// calibrated errors and has nothing left to name.
+// The calibrated description file fed back: a mass error or a moved centre
+// of mass MuJoCo hid in the two-link arm's forearm is named, written as the
+// forearm's <body mass_scale com_shift>, and the model built from that file
+// (the correction applied to the mechanism, as mbx_mechanism_set_mechatronics
+// does) replays with the calibrated errors and has nothing left to name.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -16,46 +16,73 @@
 using namespace mbx;
 using namespace mbx::calibration;
 
+namespace {
+
+// What the calibration of `spec` names and writes, fed back: the file holds
+// exactly what was found, and the model built from it replays with the
+// calibrated errors and has nothing left to name. Returns the correction.
+BodyCorrection fed_back(const mbx_test::CaseSpec& spec, const mbx_test::TempDir& dir) {
+    const mbx_test::GeneratedCase c = mbx_test::generate_case(spec, dir.file(spec.name + "/case"));
+    REQUIRE(c.hidden.size() == 1);
+    auto t = mbx_test::open_mechanism("two_link_arm");
+    Mechanism& mech = *t->mechanism;
+    const Experiment e = load_experiment(c.experiment_path);
+    const CalibrationResult r = calibrate(mech, {}, e);
+    REQUIRE(r.identification.causes.size() == 1);
+    CHECK(r.identification.causes[0].candidate.cause == "mass_error");
+    REQUIRE(r.bodies.size() == 1);
+    CHECK(r.bodies[0].id == c.hidden[0].body_id);
+    CHECK(r.unwritten.empty());
+
+    const sim::Model model = sim::build_model(mech, {});
+    write_calibration_files(dir.file(spec.name + "/out"), mech, model, e, r, "");
+    MechatronicSpec fed;
+    std::vector<DriveError> errors;
+    load_drive_file(dir.file(spec.name + "/out/description.xml"), fed, errors);
+    REQUIRE(errors.empty());
+    REQUIRE(fed.body_masses.size() == 1);
+    CHECK(fed.body_masses[0].body == r.bodies[0].id);
+    // What the file holds reads back as exactly what calibration found.
+    const BodyCorrection& found = r.bodies[0].correction;
+    CHECK(fed.body_masses[0].mass_scale == found.mass_scale);
+    for (int k = 0; k < 3; ++k) CHECK(fed.body_masses[0].com_shift[k] == found.com_shift[k]);
+    for (int k = 0; k < 6; ++k) CHECK(fed.body_masses[0].inertia_change[size_t(k)] == found.inertia_change[k]);
+    const std::vector<ResolvedBodyMass> masses = resolve_body_masses(fed.body_masses, mech, nullptr, errors);
+    REQUIRE(errors.empty());
+    const RigidBody cad = mech.bodies[size_t(masses[0].body)];
+    apply_body_masses(mech, cad_inertia(mech), masses);
+    CHECK(mech.bodies[size_t(masses[0].body)].mass == doctest::Approx(cad.mass * found.mass_scale));
+    CHECK((mech.bodies[size_t(masses[0].body)].com - cad.com - found.com_shift).norm() < 1e-12);
+
+    const CalibrationResult again = calibrate(mech, {}, e);
+    MESSAGE(spec.name << ": calibrated " << r.final_step().simulated_fit << " / " << r.final_step().simulated_validation
+                      << " %, fed back " << again.baseline().simulated_fit << " / "
+                      << again.baseline().simulated_validation << " %");
+    CHECK(again.baseline().simulated_fit == doctest::Approx(r.final_step().simulated_fit).epsilon(0.01));
+    CHECK(again.baseline().simulated_validation == doctest::Approx(r.final_step().simulated_validation).epsilon(0.01));
+    CHECK(again.identification.causes.empty());
+    return found;
+}
+
+}  // namespace
+
 TEST_CASE("calibration: a mass error written to description.xml and fed back replays as calibrated") {
     mbx_test::TempDir dir("mbx_feedback");
     mbx_test::CaseSpec spec;
     spec.name = "mass", spec.mechanism = "two_link_arm", spec.seed = 11;
     spec.effects = {{"mass_error", "two_link_arm/forearm", 0.3, 0.3}};
-    const mbx_test::GeneratedCase c = mbx_test::generate_case(spec, dir.file("case"));
-    REQUIRE(c.hidden.size() == 1);
-    const double truth = c.hidden[0].parameter("relative_mass_change");
+    const BodyCorrection found = fed_back(spec, dir);
+    CHECK(found.mass_scale == doctest::Approx(1.3).epsilon(0.03));
+    CHECK(found.com_shift.isZero(0));
+}
 
-    auto t = mbx_test::open_mechanism("two_link_arm");
-    Mechanism& mech = *t->mechanism;
-    const Experiment e = load_experiment(c.experiment_path);
-    const CalibrationResult r = calibrate(mech, {}, e);
-    REQUIRE(!r.identification.causes.empty());
-    CHECK(r.identification.causes[0].candidate.cause == "mass_error");
-    REQUIRE(r.bodies.size() == 1);
-    CHECK(r.bodies[0].id == c.hidden[0].body_id);
-    CHECK(r.bodies[0].factor == doctest::Approx(1 + truth).epsilon(0.03));
-    CHECK(r.unwritten.empty());
-
-    const sim::Model model = sim::build_model(mech, {});
-    write_calibration_files(dir.file("out"), mech, model, e, r, "");
-    MechatronicSpec fed;
-    std::vector<DriveError> errors;
-    load_drive_file(dir.file("out/description.xml"), fed, errors);
-    REQUIRE(errors.empty());
-    REQUIRE(fed.body_masses.size() == 1);
-    CHECK(fed.body_masses[0].body == r.bodies[0].id);
-    CHECK(fed.body_masses[0].mass_scale == r.bodies[0].factor);
-    const std::vector<ResolvedBodyMass> masses = resolve_body_masses(fed.body_masses, mech, errors);
-    REQUIRE(errors.empty());
-    const double cad_mass = mech.bodies[size_t(masses[0].body)].mass;
-    apply_body_masses(mech, cad_inertia(mech), masses);
-    CHECK(mech.bodies[size_t(masses[0].body)].mass == doctest::Approx(cad_mass * r.bodies[0].factor));
-
-    const CalibrationResult again = calibrate(mech, {}, e);
-    MESSAGE("calibrated " << r.final_step().simulated_fit << " / " << r.final_step().simulated_validation
-                          << " %, fed back " << again.baseline().simulated_fit << " / "
-                          << again.baseline().simulated_validation << " %");
-    CHECK(again.baseline().simulated_fit == doctest::Approx(r.final_step().simulated_fit).epsilon(0.01));
-    CHECK(again.baseline().simulated_validation == doctest::Approx(r.final_step().simulated_validation).epsilon(0.01));
-    CHECK(again.identification.causes.empty());
+TEST_CASE("calibration: a centre of mass moved, written as com_shift and fed back, replays as calibrated") {
+    mbx_test::TempDir dir("mbx_feedback_com");
+    mbx_test::CaseSpec spec;
+    spec.name = "com", spec.mechanism = "two_link_arm", spec.seed = 11;
+    spec.effects = {{"com_shift", "two_link_arm/forearm", 0.04, 0.04, Eigen::Vector3d::UnitZ()}};
+    const BodyCorrection found = fed_back(spec, dir);
+    CHECK(found.mass_scale == 1);
+    CHECK(found.com_shift.z() == doctest::Approx(0.04).epsilon(0.05));
+    CHECK(found.com_shift.y() == 0);  // along the joints' axis: no record sees it
 }

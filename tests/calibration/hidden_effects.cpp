@@ -6,6 +6,8 @@
 // | coulomb_friction          | MuJoCo    | dof_frictionloss = coulomb (stiff friction constraint)      | coulomb            |
 // | armature                  | MuJoCo    | dof_armature = armature                                     | armature           |
 // | mass_error                | MuJoCo    | body_mass and body_inertia times (1 + relative change)      | relative change    |
+// | mass_error (com_shift)    | MuJoCo    | body_ipos moved along a direction (mbx body frame)          | shift (m)          |
+// | mass_error (inertia_error)| MuJoCo    | moments across a direction + value * largest moment         | relative change    |
 // | effort_offset             | generator | applied = commanded + offset; recorded = commanded          | offset             |
 // | actuator_gain             | generator | applied = gain * commanded                                  | gain               |
 // | delay                     | generator | applied = commanded from `delay` s earlier (whole steps)    | delay              |
@@ -60,7 +62,8 @@ double HiddenEffect::parameter(const std::string& name) const {
 std::vector<std::string> generated_causes() {
     return {"viscous_friction", "coulomb_friction", "armature",          "mass_error",
             "effort_offset",    "actuator_gain",    "delay",             "sensor_offset",
-            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance", "backlash"};
+            "asymmetric_friction", "stribeck_friction", "position_dependent_effort", "compliance", "backlash",
+            "com_shift", "inertia_error"};
 }
 
 mbx_memory::Assembly two_link_arm_assembly() {
@@ -485,7 +488,7 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         const double value = rng.uniform(e.low, e.high);
         HiddenEffect h;
         h.cause = e.cause;
-        if (e.cause == "mass_error") {
+        if (e.cause == "mass_error" || e.cause == "com_shift" || e.cause == "inertia_error") {
             int sb = -1;
             for (size_t b = 1; b < model.bodies.size(); ++b)
                 if (model.bodies[b].id == e.subject || model.bodies[b].name == e.subject) sb = int(b);
@@ -494,13 +497,63 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
             const int k = layout.of_body[size_t(src)];
             const int mb = k < 0 ? -1 : mj_name2id(m, mjOBJ_BODY, layout.bodies[size_t(k)].name.c_str());
             if (mb < 0) throw std::runtime_error("hidden effects: body '" + e.subject + "' has no MuJoCo body");
-            if (value <= -1) throw std::runtime_error("hidden effects: a mass cannot vanish");
+            h.cause = "mass_error";
             h.body_id = model.bodies[size_t(sb)].id;
             h.body_name = model.bodies[size_t(sb)].name;
-            const double nominal = m->body_mass[mb];
-            m->body_mass[mb] *= 1 + value;
-            for (int r = 0; r < 3; ++r) m->body_inertia[3 * mb + r] *= 1 + value;
-            h.parameters = {{"relative_mass_change", value}, {"mass", m->body_mass[mb]}, {"nominal_mass", nominal}};
+            if (e.cause == "mass_error") {
+                if (value <= -1) throw std::runtime_error("hidden effects: a mass cannot vanish");
+                const double nominal = m->body_mass[mb];
+                m->body_mass[mb] *= 1 + value;
+                for (int r = 0; r < 3; ++r) m->body_inertia[3 * mb + r] *= 1 + value;
+                h.parameters = {{"relative_mass_change", value}, {"mass", m->body_mass[mb]}, {"nominal_mass", nominal}};
+                out.hidden.push_back(h);
+                continue;
+            }
+            // Vectors in mbx's body frame (the truth's) to MuJoCo's body
+            // frame: the two frames' world rotations at the assembly pose.
+            const Eigen::Vector3d direction = e.direction.normalized();
+            if (!direction.allFinite()) throw std::runtime_error("hidden effects: " + e.cause + " needs a direction");
+            mbx::sim::Data sd(model);
+            sd.q = model.q_reference;
+            mbx::sim::update_kinematics(model, sd);
+            mj_resetData(m, d);
+            for (int v = 0; v < model.nv; ++v)
+                d->qpos[qpos_of_v[size_t(v)]] = model.q_reference[model.joints[size_t(model.dof_joint[size_t(v)])].q_index];
+            mj_kinematics(m, d);
+            Eigen::Matrix3d mj_world;
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) mj_world(r, c) = d->xmat[9 * mb + 3 * r + c];
+            const Eigen::Matrix3d to_mj = mj_world.transpose() * sd.x_world[size_t(sb)].R;
+            if (e.cause == "com_shift") {
+                // The centre of mass moves `value` m along `direction`; the inertia about it stays.
+                const Eigen::Vector3d shift = value * direction, in_mj = to_mj * shift;
+                for (int r = 0; r < 3; ++r) m->body_ipos[3 * mb + r] += in_mj[r];
+                h.parameters = {{"com_shift", value}, {"com_shift_x", shift[0]}, {"com_shift_y", shift[1]},
+                                {"com_shift_z", shift[2]}};
+            } else {
+                // Material spread along `direction` (heavier ends, same mass
+                // and centre): the moments about the axes across it grow by
+                // `value` times the body's largest moment about its centre.
+                Eigen::Matrix3d principal;
+                const Eigen::Quaterniond iq(m->body_iquat[4 * mb], m->body_iquat[4 * mb + 1], m->body_iquat[4 * mb + 2],
+                                            m->body_iquat[4 * mb + 3]);
+                const Eigen::Matrix3d Ri = iq.toRotationMatrix();
+                const Eigen::Vector3d moments(m->body_inertia[3 * mb], m->body_inertia[3 * mb + 1], m->body_inertia[3 * mb + 2]);
+                principal = Ri * moments.asDiagonal() * Ri.transpose();
+                const double delta = value * moments.maxCoeff();
+                const Eigen::Matrix3d change = delta * (Eigen::Matrix3d::Identity() - direction * direction.transpose());
+                const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(principal + to_mj * change * to_mj.transpose());
+                Eigen::Matrix3d axes = eig.eigenvectors();
+                if (axes.determinant() < 0) axes.col(2) *= -1;
+                const Eigen::Quaterniond q(axes);
+                m->body_iquat[4 * mb] = q.w(), m->body_iquat[4 * mb + 1] = q.x();
+                m->body_iquat[4 * mb + 2] = q.y(), m->body_iquat[4 * mb + 3] = q.z();
+                for (int r = 0; r < 3; ++r) m->body_inertia[3 * mb + r] = eig.eigenvalues()[r];
+                h.parameters = {{"relative_inertia_change", value},
+                                {"inertia_change_xx", change(0, 0)}, {"inertia_change_yy", change(1, 1)},
+                                {"inertia_change_zz", change(2, 2)}, {"inertia_change_xy", change(0, 1)},
+                                {"inertia_change_xz", change(0, 2)}, {"inertia_change_yz", change(1, 2)}};
+            }
             out.hidden.push_back(h);
             continue;
         }
@@ -785,6 +838,15 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed) {
         // Dead bands (widths in rad), appended likewise.
         {"two_link_arm", {{"backlash", S, 0.01, 0.03}}},
         {"two_link_arm", {{"backlash", E, 0.01, 0.03}}},
+        // A body's centre of mass and inertia (named mass_error), appended
+        // likewise: across and along the forearm (x, z in its frame; the
+        // joints turn about y), across the upper arm; the forearm's
+        // material spread along it. (The upper arm's moment about the
+        // shoulder axis is the shoulder's armature to any record.)
+        {"two_link_arm", {{"com_shift", "two_link_arm/forearm", 0.02, 0.05, Eigen::Vector3d::UnitX()}}},
+        {"two_link_arm", {{"com_shift", "two_link_arm/forearm", 0.03, 0.06, Eigen::Vector3d::UnitZ()}}},
+        {"two_link_arm", {{"com_shift", "two_link_arm/upper", -0.05, -0.02, Eigen::Vector3d::UnitX()}}},
+        {"two_link_arm", {{"inertia_error", "two_link_arm/forearm", 0.4, 0.9, Eigen::Vector3d::UnitZ()}}},
     };
     std::vector<CaseSpec> specs;
     std::map<std::string, int> used;

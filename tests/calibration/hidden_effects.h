@@ -36,6 +36,9 @@ struct EffectSpec {
     std::string cause;
     std::string subject;
     double low = 0, high = 0;
+    // com_shift and inertia_error (both named mass_error): the shift's
+    // direction, or the one the material spreads along, in mbx's body frame.
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
 };
 
 struct CaseSpec {
@@ -105,7 +108,9 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed);
 std::vector<GeneratedCase> generate_suite(const std::vector<CaseSpec>& specs, const std::string& out_dir);
 
 // The causes the suite draws (backlash on the two-link arm only: the slide's
-// dead band is not named yet, docs/calibration.md).
+// dead band is not named yet, docs/calibration.md), with com_shift and
+// inertia_error, the generator's names for the mass_error of a body's centre
+// of mass and of its inertia.
 std::vector<std::string> generated_causes();
 
 }  // namespace mbx_test

@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "calibration/causes.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
@@ -343,6 +344,49 @@ TEST_CASE("hidden effects: a changed body mass is MuJoCo's, seen by mbx's invers
                          << ", changed " << with_change);
             CHECK(with_change < 1e-6 * (mech == "fourbar" ? 1e3 : 1));
             CHECK(without > 0.03);
+        }
+    }
+}
+
+// The same for a centre of mass moved and an inertia spread along a
+// direction off the body's axes: MuJoCo's body frame is not mbx's, so the
+// generator's truth (in mbx's body frame) is right only if the frames were
+// mapped; calibration's own corrected_inertia applies it.
+TEST_CASE("hidden effects: a moved centre of mass and a changed inertia are MuJoCo's, in mbx's body frame") {
+    mbx_test::TempDir dir("mbx_hidden_com");
+    const Eigen::Vector3d skew_direction = Eigen::Vector3d(0.6, 0.3, 1.0).normalized();
+    for (const std::string kind : {"com_shift", "inertia_error"}) {
+        CAPTURE(kind);
+        const std::string body = "two_link_arm/forearm";
+        const double low = kind == "com_shift" ? 0.03 : 0.5;
+        const Run r = run("two_link_arm", {{kind, body, low, low, skew_direction}}, dir, 5, kind);
+        const auto& h = r.c.hidden.at(0);
+        CHECK(h.cause == "mass_error");
+        CHECK(h.body_id == body);
+        sim::Model changed = model_of("two_link_arm");
+        int b = -1;
+        for (size_t k = 0; k < changed.bodies.size(); ++k)
+            if (changed.bodies[k].id == body) b = int(k);
+        REQUIRE(b > 0);
+        double shift[3] = {0, 0, 0}, change[6] = {0, 0, 0, 0, 0, 0};
+        if (kind == "com_shift") {
+            for (int k = 0; k < 3; ++k) shift[k] = h.parameter(calibration::Candidate::kComShiftNames[k]);
+            CHECK(Eigen::Vector3d(shift[0], shift[1], shift[2]).norm() == doctest::Approx(low));
+        } else {
+            for (int k = 0; k < 6; ++k) change[k] = h.parameter(calibration::Candidate::kInertiaChangeNames[k]);
+            CHECK(change[4] != 0);  // off the axes: products of inertia change too
+        }
+        const double one = 1;
+        changed.bodies[size_t(b)].inertia = calibration::corrected_inertia(changed.bodies[size_t(b)].inertia, one, shift, change);
+        const Eigen::MatrixXd nominal = inverse_dynamics_along(model_of("two_link_arm"), r.motion[0]);
+        const Eigen::MatrixXd right = inverse_dynamics_along(changed, r.motion[0]);
+        for (size_t i = 0; i < r.c.joint_ids.size(); ++i) {
+            const Eigen::VectorXd u = r.motion[0].applied.col(Eigen::Index(i));
+            const double with_change = rms(u - right.col(Eigen::Index(i))) / rms(u);
+            const double without = rms(u - nominal.col(Eigen::Index(i))) / rms(u);
+            MESSAGE(kind << " joint " << r.c.joint_names[i] << ": error nominal " << without << ", changed " << with_change);
+            CHECK(with_change < 1e-6);
+            CHECK(without > 0.005);  // (the forearm's inertia is 0.8 % of the shoulder's effort)
         }
     }
 }

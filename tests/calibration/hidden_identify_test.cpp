@@ -7,6 +7,7 @@
 // effects where two are hidden.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
@@ -75,6 +76,29 @@ Check check_for(const std::string& cause) {
     return table.at(cause);
 }
 
+// A hidden mass_error's kind (the generator's com_shift and inertia_error
+// are mass errors too), the estimates it is judged by and the tolerance
+// docs/calibration.md states for it.
+struct BodyTruth {
+    enum Kind { Mass, Shift, Inertia } kind = Mass;
+    std::vector<std::string> names;
+    double tolerance = 0;
+};
+
+BodyTruth body_truth(const HiddenEffect& h) {
+    BodyTruth b;
+    for (const auto& p : h.parameters) {
+        if (p.first == "com_shift") b.kind = BodyTruth::Shift;
+        if (p.first == "relative_inertia_change") b.kind = BodyTruth::Inertia;
+    }
+    if (b.kind == BodyTruth::Shift) b.names = {"com_shift_x", "com_shift_y", "com_shift_z"}, b.tolerance = 0.05;
+    if (b.kind == BodyTruth::Inertia)
+        b.names = {"inertia_change_xx", "inertia_change_yy", "inertia_change_zz",
+                   "inertia_change_xy", "inertia_change_xz", "inertia_change_yz"},
+        b.tolerance = 0.10;
+    return b;
+}
+
 bool same_subject(const sim::Model& m, const Candidate& c, const HiddenEffect& h) {
     if (!h.body_id.empty()) return c.body >= 0 && m.bodies[size_t(c.body)].id == h.body_id;
     return c.joint >= 0 && c.joint == sim::find_joint(m, h.joint_id);
@@ -109,7 +133,7 @@ Verdict judge(const sim::Model& m, const GeneratedCase& g, const Identification&
     v.named = true, v.within = true;
     std::vector<bool> explained(id.causes.size(), false);
     for (const HiddenEffect& h : g.hidden) {
-        const Check k = check_for(h.cause);
+        Check k = check_for(h.cause);
         const SelectedCause* found = nullptr;
         for (size_t i = 0; i < id.causes.size(); ++i) {
             const Candidate& c = id.causes[i].candidate;
@@ -127,8 +151,27 @@ Verdict judge(const sim::Model& m, const GeneratedCase& g, const Identification&
         double est = NAN;
         for (const Estimate& e : found->parameters)
             if (e.name == k.estimate) est = e.value;
-        const double truth = k.gain ? 1 - h.parameter(k.truth) : k.sign * h.parameter(k.truth);
-        const double err = std::fabs(est - truth) / std::fabs(truth);
+        double err = NAN;
+        if (const BodyTruth b = body_truth(h); b.kind == BodyTruth::Mass) {
+            const double truth = k.gain ? 1 - h.parameter(k.truth) : k.sign * h.parameter(k.truth);
+            err = std::fabs(est - truth) / std::fabs(truth);
+        } else {
+            // A shift or an inertia change: the estimated entries against the
+            // true ones, as vectors (entries the records cannot see are
+            // neither estimated nor compared; none estimated is a miss).
+            Eigen::VectorXd e(Eigen::Index(b.names.size())), t(Eigen::Index(b.names.size()));
+            int seen = 0;
+            for (size_t i = 0; i < b.names.size(); ++i) {
+                e[Eigen::Index(i)] = 0, t[Eigen::Index(i)] = h.parameter(b.names[i]);
+                for (const Estimate& x : found->parameters)
+                    if (x.name == b.names[i]) e[Eigen::Index(i)] = x.value, ++seen;
+                if (b.kind == BodyTruth::Inertia && !std::count_if(found->parameters.begin(), found->parameters.end(),
+                                                                   [&](const Estimate& x) { return x.name == b.names[i]; }))
+                    t[Eigen::Index(i)] = 0;
+            }
+            err = seen ? (e - t).norm() / t.norm() : NAN;
+            k.tolerance = b.tolerance;
+        }
         v.errors.push_back(err);
         s << " (error " << 100 * err << " %)";
         v.within = v.within && err <= k.tolerance;
@@ -153,7 +196,11 @@ TEST_CASE("calibration: the hidden-effect suite names each hidden cause, its sub
     std::map<std::string, std::pair<int, int>> per_mechanism;  // right, total (single effect)
     int single = 0, single_right = 0, clean = 0, clean_quiet = 0, pairs = 0, pairs_right = 0;
     std::map<std::string, std::vector<double>> errors;
+    // MBX_HIDDEN_CASES: only the cases whose name contains it (a look at a
+    // few; the suite's assertions then do not apply).
+    const char* only = std::getenv("MBX_HIDDEN_CASES");
     for (const CaseSpec& spec : suite) {
+        if (only && spec.name.find(only) == std::string::npos) continue;
         const GeneratedCase g = mbx_test::generate_case(spec, dir.file(spec.name));
         // Only the simulation stage names a compliance: where it is skipped
         // (below), those cases are not this build's to judge.
@@ -225,6 +272,7 @@ TEST_CASE("calibration: the hidden-effect suite names each hidden cause, its sub
     }
     summary << "; " << seconds << " s (identification " << identify_seconds << " s)";
     MESSAGE(summary.str());
+    if (only) return;
     CHECK(single >= 30);
     CHECK(clean >= 6);
     CHECK(pairs >= 3);

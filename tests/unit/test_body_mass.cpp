@@ -37,6 +37,12 @@ int body_with_part(const Mechanism& m, const std::string& part) {
     return -1;
 }
 
+BodyMassSpec spec_of(const std::string& body, double scale, int line) {
+    BodyMassSpec s;
+    s.body = body, s.mass_scale = scale, s.file = "d.xml", s.line = line;
+    return s;
+}
+
 std::string texts(const std::vector<DriveError>& errors) {
     std::string s;
     for (const DriveError& e : errors) s += e.text() + "\n";
@@ -79,9 +85,9 @@ TEST_CASE("body mass: resolved by body or part id, applied from the CAD inertia"
     const Mat3 fore_inertia = m->bodies[size_t(fore)].inertia;
     REQUIRE(upper_mass == doctest::Approx(2.5));
 
-    std::vector<BodyMassSpec> specs = {{"bracket", 0.8, "d.xml", 2}, {"fore", 1.5, "d.xml", 3}};
+    std::vector<BodyMassSpec> specs = {spec_of("bracket", 0.8, 2), spec_of("fore", 1.5, 3)};
     std::vector<LibraryError> errors;
-    const std::vector<ResolvedBodyMass> r = resolve_body_masses(specs, *m, errors);
+    const std::vector<ResolvedBodyMass> r = resolve_body_masses(specs, *m, nullptr, errors);
     CHECK(errors.empty());
     REQUIRE(r.size() == 2);
     CHECK(r[0].body == upper);
@@ -98,9 +104,9 @@ TEST_CASE("body mass: resolved by body or part id, applied from the CAD inertia"
     CHECK(m->bodies[size_t(fore)].mass == doctest::Approx(1.5 * fore_mass));
 
     // Unknown ids, the same body twice (through two of its parts), the ground.
-    specs = {{"nothing", 1.1, "d.xml", 4}, {"upper", 1.1, "d.xml", 5}, {"bracket", 1.2, "d.xml", 6}, {"ground", 2, "d.xml", 7}};
+    specs = {spec_of("nothing", 1.1, 4), spec_of("upper", 1.1, 5), spec_of("bracket", 1.2, 6), spec_of("ground", 2, 7)};
     errors.clear();
-    const std::vector<ResolvedBodyMass> r2 = resolve_body_masses(specs, *m, errors);
+    const std::vector<ResolvedBodyMass> r2 = resolve_body_masses(specs, *m, nullptr, errors);
     CHECK(r2.size() == 1);
     const std::string all = texts(errors);
     INFO(all);
@@ -108,4 +114,60 @@ TEST_CASE("body mass: resolved by body or part id, applied from the CAD inertia"
     CHECK(all.find("d.xml:6: bracket: body") != std::string::npos);
     CHECK(all.find("corrected twice (first at line 5)") != std::string::npos);
     CHECK(all.find("d.xml:7: ground:") != std::string::npos);
+}
+
+TEST_CASE("body mass: a centre of mass moved and an inertia changed, read, checked and applied from the CAD values") {
+    MechatronicSpec spec;
+    std::vector<DriveError> errors;
+    load_drive_text("<mechatronics version=\"1\">\n"
+                    "  <body id=\"fore\" mass_scale=\"2\" com_shift=\" 0.01 -0.02\t0.03 \" inertia_change=\"1e-3 2e-3 0 0 0 -1e-4\"/>\n"
+                    "  <body id=\"upper\" com_shift=\"0.01 0.02\"/>\n"
+                    "  <body id=\"bracket\" inertia_change=\"1 2 3 4 5 6 7\"/>\n"
+                    "  <body id=\"x\" com_shift=\"0 nan 0\"/>\n"
+                    "</mechatronics>\n",
+                    "d.xml", "", spec, errors);
+    const std::string all = texts(errors);
+    INFO(all);
+    REQUIRE(spec.body_masses.size() == 1);
+    const BodyMassSpec& s = spec.body_masses[0];
+    CHECK(s.mass_scale == 2);
+    CHECK(s.com_shift == Vec3(0.01, -0.02, 0.03));
+    CHECK(s.inertia_change == InertiaEntries{1e-3, 2e-3, 0, 0, 0, -1e-4});
+    CHECK(all.find("d.xml:3: upper: com_shift = '0.01 0.02' is not 3 numbers") != std::string::npos);
+    CHECK(all.find("d.xml:4: bracket: inertia_change = '1 2 3 4 5 6 7' is not 6 numbers") != std::string::npos);
+    CHECK(all.find("d.xml:5: x: com_shift = '0 nan 0' is not 3 numbers") != std::string::npos);
+
+    std::unique_ptr<Mechanism> m = arm();
+    const int fore = body_with_part(*m, "fore");
+    const RigidBody cad = m->bodies[size_t(fore)];
+    std::vector<LibraryError> lib_errors;
+    const std::vector<ResolvedBodyMass> r = resolve_body_masses(spec.body_masses, *m, nullptr, lib_errors);
+    REQUIRE(lib_errors.empty());
+    REQUIRE(r.size() == 1);
+    const CadInertia base = cad_inertia(*m);
+    for (int twice = 0; twice < 2; ++twice) {  // from the CAD values each time
+        apply_body_masses(*m, base, r);
+        const RigidBody& b = m->bodies[size_t(fore)];
+        CHECK(b.mass == doctest::Approx(2 * cad.mass));
+        CHECK((b.com - (cad.com + Vec3(0.01, -0.02, 0.03))).norm() < 1e-15);
+        Mat3 change;
+        change << 1e-3, 0, 0, 0, 2e-3, -1e-4, 0, -1e-4, 0;
+        CHECK((b.inertia - (2 * cad.inertia + change)).norm() < 1e-15);
+    }
+
+    // A change no rigid body can have is refused by name: negative, or one
+    // principal moment above the sum of the other two.
+    const std::pair<InertiaEntries, const char*> bad[] = {
+        {InertiaEntries{-1e6, 0, 0, 0, 0, 0}, "not positive definite"},
+        {InertiaEntries{0, 0, 1e3, 0, 0, 0}, "exceeds the sum of the other two"}};
+    for (const auto& [change, why] : bad) {
+        BodyMassSpec b = spec_of("fore", 1, 9);
+        b.inertia_change = change;
+        lib_errors.clear();
+        CHECK(resolve_body_masses({b}, *m, &base, lib_errors).empty());
+        REQUIRE(lib_errors.size() == 1);
+        CHECK(lib_errors[0].object == "fore");
+        CHECK(lib_errors[0].line == 9);
+        CHECK(lib_errors[0].message.find(why) != std::string::npos);
+    }
 }

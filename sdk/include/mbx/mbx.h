@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 9u
+#define MBX_ABI_VERSION 10u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -716,6 +716,27 @@ typedef struct mbx_joint_dynamics_desc {
 MBX_API mbx_status mbx_mechatronics_set_joint_dynamics(mbx_context *context, mbx_mechatronics *mechatronics,
                                                        const mbx_joint_dynamics_desc *dynamics);
 
+/* A body's inertia corrected (ABI 10), SI: what the description file's
+ * <body> element holds (docs/mechatronics.md), e.g. what `mbx calibrate`
+ * identified. Relative to the CAD values: the whole inertia times
+ * mass_scale, then the centre of mass moved by com_shift (body frame, the
+ * inertia about it unchanged) and inertia_change added to the inertia tensor
+ * about the centre of mass (body axes). */
+typedef struct mbx_body_correction_desc {
+    uint32_t struct_size;
+    const char *body_id;        /* the body's CAD part id, or any part merged into it; required */
+    double mass_scale;          /* > 0; 0 in a zeroed struct means 1 */
+    double com_shift[3];        /* m */
+    double inertia_change[6];   /* kg m^2: xx yy zz xy xz yz */
+} mbx_body_correction_desc;
+
+/* Sets the correction of one body, replacing an earlier one for the same
+ * id. MBX_ERROR_INVALID_INPUT for a non-finite value or a negative scale;
+ * checked against the mechanism by mbx_mechanism_set_mechatronics (unknown
+ * body, a body without mass, a corrected inertia no rigid body can have). */
+MBX_API mbx_status mbx_mechatronics_set_body_correction(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                        const mbx_body_correction_desc *correction);
+
 /* Resolves every drive and every joint's dynamics against the mechanism
  * and attaches them (replacing earlier ones; NULL detaches). Fails with MBX_ERROR_INVALID_INPUT, attaching
  * nothing, when a drive names an unknown constraint, a joint that cannot be
@@ -1176,6 +1197,8 @@ typedef struct mbx_api {
     mbx_status (*mechatronics_set_contact_material)(mbx_context *, mbx_mechatronics *, const mbx_contact_material_desc *);
     uint32_t (*mechanism_collision_shape_count)(const mbx_mechanism *);
     mbx_status (*mechanism_write_view)(mbx_context *, mbx_mechanism *, const mbx_view_options *, const char *);
+    /* --- version 10 --- */
+    mbx_status (*mechatronics_set_body_correction)(mbx_context *, mbx_mechatronics *, const mbx_body_correction_desc *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

@@ -227,6 +227,39 @@ MBX_API mbx_status mbx_mechatronics_set_joint_dynamics(mbx_context* context, mbx
     });
 }
 
+MBX_API mbx_status mbx_mechatronics_set_body_correction(mbx_context* context, mbx_mechatronics* m,
+                                                        const mbx_body_correction_desc* correction) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !correction) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or correction is NULL");
+    return guarded(context, [&] {
+        mbx_body_correction_desc d{};
+        if (correction->struct_size < 2 * sizeof(uint32_t))
+            throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{}, "mbx_body_correction_desc.struct_size is too small");
+        std::memcpy(&d, correction, std::min<size_t>(correction->struct_size, sizeof d));
+        const std::string id = text_or_empty(d.body_id);
+        if (id.empty()) throw Error(MBX_ERROR_INVALID_INPUT, Subject{}, "a body correction needs a body_id");
+        const Subject body{MBX_SUBJECT_BODY, id, id};
+        BodyMassSpec spec;
+        spec.body = id;
+        spec.mass_scale = d.mass_scale == 0 ? 1 : d.mass_scale;
+        if (!(std::isfinite(spec.mass_scale) && spec.mass_scale > 0))
+            throw Error(MBX_ERROR_INVALID_INPUT, body, "body correction of '" + id + "': mass_scale must be positive");
+        for (int k = 0; k < 3; ++k) spec.com_shift[k] = d.com_shift[k];
+        for (int k = 0; k < 6; ++k) spec.inertia_change[size_t(k)] = d.inertia_change[k];
+        bool finite = spec.com_shift.allFinite();
+        for (double v : spec.inertia_change) finite = finite && std::isfinite(v);
+        if (!finite)
+            throw Error(MBX_ERROR_INVALID_INPUT, body,
+                        "body correction of '" + id + "': com_shift and inertia_change must be finite");
+        for (BodyMassSpec& existing : m->spec.body_masses)
+            if (existing.body == id) {
+                existing = spec;
+                return;
+            }
+        m->spec.body_masses.push_back(spec);
+    });
+}
+
 MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mechanism* mechanism,
                                                   const mbx_mechatronics* m) {
     if (!context) return MBX_ERROR_INVALID_ARGUMENT;
@@ -259,7 +292,7 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
                                           : Subject{MBX_SUBJECT_FILE, first.file, first.object};
             fail_with(errors, "joint dynamics do not fit the mechanism", &joint);
         }
-        std::vector<ResolvedBodyMass> masses = resolve_body_masses(m->spec.body_masses, *mechanism->model, errors);
+        std::vector<ResolvedBodyMass> masses = resolve_body_masses(m->spec.body_masses, *mechanism->model, mechanism->cad_inertia.get(), errors);
         if (!errors.empty()) {
             const LibraryError& first = errors.front();
             const Subject body{MBX_SUBJECT_BODY, first.object, first.object};

@@ -75,6 +75,7 @@ const mbx_api kApi = {
     mbx_mechatronics_set_contact_material,
     mbx_mechanism_collision_shape_count,
     mbx_mechanism_write_view,
+    mbx_mechatronics_set_body_correction,
 };
 
 }  // namespace

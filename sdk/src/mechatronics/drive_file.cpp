@@ -2,6 +2,7 @@
 
 #include <pugixml.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -32,7 +33,7 @@ const std::map<std::string, std::set<std::string>>& allowed_attributes() {
                    "lower", "upper", "unit", "offset", "coulomb_negative", "damping_negative", "stribeck",
                    "stribeck_velocity"}},
         {"transmission", {"stiffness", "damping", "motor_inertia", "backlash"}},
-        {"body", {"id", "mass_scale"}},
+        {"body", {"id", "mass_scale", "com_shift", "inertia_change"}},
     };
     return table;
 }
@@ -105,6 +106,19 @@ private:
             return fallback;
         }
         return v;
+    }
+
+    // `count` numbers in one attribute ("dx dy dz"); left as they are when absent.
+    void numbers(const pugi::xml_node& n, const char* name, size_t count, double* out, const std::string& who) {
+        const pugi::xml_attribute a = n.attribute(name);
+        if (!a) return;
+        std::vector<double> v(count);
+        if (!parse_xml_numbers(a.as_string(), count, v.data())) {
+            error(n, who, std::string(name) + " = '" + a.as_string() + "' is not " + std::to_string(count) +
+                              " numbers");
+            return;
+        }
+        std::copy(v.begin(), v.end(), out);
     }
 
     void library(const pugi::xml_node& n) {
@@ -201,6 +215,8 @@ private:
                 error(c, who, "unknown element <" + std::string(c.name()) + "> in a body (it takes attributes only)");
         b.mass_scale = number(n, "mass_scale", 1, who);
         if (!(b.mass_scale > 0)) error(n, who, "mass_scale must be positive");
+        numbers(n, "com_shift", 3, b.com_shift.data(), who);
+        numbers(n, "inertia_change", 6, b.inertia_change.data(), who);
         if (const auto it = seen_bodies_.find(b.body); it != seen_bodies_.end() && !b.body.empty())
             error(n, who, "a second <body> for the same body (the first is at line " + std::to_string(it->second) + ")");
         else seen_bodies_.emplace(b.body, b.line);

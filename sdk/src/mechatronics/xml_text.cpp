@@ -18,6 +18,19 @@ bool parse_xml_number(const std::string& text, double& out) {
     return r.ec == std::errc() && r.ptr == e && std::isfinite(out);
 }
 
+bool parse_xml_numbers(const std::string& text, size_t count, double* out) {
+    size_t at = 0, found = 0;
+    while (true) {
+        while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+        if (at == text.size()) break;
+        size_t end = at;
+        while (end < text.size() && !std::isspace(static_cast<unsigned char>(text[end]))) ++end;
+        if (found == count || !parse_xml_number(text.substr(at, end - at), out[found])) return false;
+        ++found, at = end;
+    }
+    return found == count;
+}
+
 XmlLines::XmlLines(const std::string& text) {
     for (size_t i = 0; i < text.size(); ++i)
         if (text[i] == '\n') newlines_.push_back(i);

@@ -12,6 +12,9 @@ namespace mbx {
 // A whole, finite number ("1e-3", "+2"; surrounding blanks allowed).
 bool parse_xml_number(const std::string& text, double& out);
 
+// Exactly `count` such numbers separated by blanks ("0 0.01 -2e-3").
+bool parse_xml_numbers(const std::string& text, size_t count, double* out);
+
 // Line of a node, from its byte offset (pugixml keeps offsets, not lines).
 class XmlLines {
 public:
