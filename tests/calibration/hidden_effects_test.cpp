@@ -178,8 +178,11 @@ int reversals(const Eigen::VectorXd& v) {
 
 TEST_CASE("hidden effects: clean records equal mbx's inverse dynamics along MuJoCo's motion") {
     mbx_test::TempDir dir("mbx_hidden_clean");
-    for (const auto& [mech, holds] : std::vector<std::pair<std::string, bool>>{
+    for (const auto& [mech_, holds_] : std::vector<std::pair<std::string, bool>>{
              {"emps_axis", false}, {"two_link_arm", false}, {"fourbar", false}, {"two_link_arm", true}}) {
+        // (C++17 lambdas, CAPTURE's among them, cannot capture a structured binding)
+        const std::string& mech = mech_;
+        const bool holds = holds_;
         CAPTURE(mech);
         CAPTURE(holds);
         const Run r = run(mech, {}, dir, 7, mech + (holds ? "_rests" : ""), holds);
@@ -319,8 +322,9 @@ TEST_CASE("hidden effects: MuJoCo's damping, friction loss and armature show wit
 
 TEST_CASE("hidden effects: a changed body mass is MuJoCo's, seen by mbx's inverse dynamics of the changed body") {
     mbx_test::TempDir dir("mbx_hidden_mass");
-    for (const auto& [mech, body] : std::vector<std::pair<std::string, std::string>>{
+    for (const auto& [mech_, body] : std::vector<std::pair<std::string, std::string>>{
              {"two_link_arm", "two_link_arm/forearm"}, {"fourbar", "fourbar/coupler"}}) {
+        const std::string& mech = mech_;  // (CAPTURE cannot capture a structured binding)
         CAPTURE(mech);
         const Run r = run(mech, {{"mass_error", body, 0.2, 0.5}}, dir, 5, mech);
         const auto& h = r.c.hidden.at(0);

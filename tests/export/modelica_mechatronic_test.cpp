@@ -226,7 +226,8 @@ Exported export_with(xtest::Translated& t, const std::string& name, std::vector<
 }
 
 void check_structure(const Exported& e) {
-    for (const auto& [name, block] : e.blocks) {
+    for (const auto& [name_, block] : e.blocks) {
+        const std::string& name = name_;  // (CAPTURE cannot capture a structured binding)
         CAPTURE(name);
         for (const std::string& err : msl::check_model(e.index, block)) FAIL_CHECK(err);
     }

@@ -84,7 +84,10 @@ std::map<int, const msl::Component*> body_components(const Mechanism& m, const m
 
 void check_frames(const Mechanism& m, const Package& p, const std::map<int, const msl::Component*>& bodies,
                   const std::vector<Pose>& expected, const msl::FramePoses& frames, const char* what) {
-    for (const auto& [b, c] : bodies) {
+    for (const auto& body_component : bodies) {
+        // (the checks' lambdas cannot capture a structured binding)
+        const int b = body_component.first;
+        const msl::Component* c = body_component.second;
         const auto it = frames.pose.find(c->name + ".frame_a");
         if (it == frames.pose.end()) {
             FAIL_CHECK(what << ": " << c->name << " is not reachable from the world");
@@ -95,7 +98,9 @@ void check_frames(const Mechanism& m, const Package& p, const std::map<int, cons
                            << expected[size_t(b)].position.transpose());
     }
     // Visual shapes sit in their body's frame.
-    for (const auto& [b, stem] : p.stems) {
+    for (const auto& body_stem : p.stems) {
+        const int b = body_stem.first;
+        const auto& stem = body_stem.second;
         const std::string uri = "modelica://" + p.name + "/Resources/Meshes/" + stem + ".stl";
         bool found = false;
         for (const msl::Component& c : p.mechanics.components) {

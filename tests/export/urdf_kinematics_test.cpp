@@ -44,7 +44,8 @@ TEST_CASE("urdf: committed samples (spherical and prismatic joints, loops)") {
                                                            {"five_axis_arm/five_axis_arm.xml", "five_axis_arm/five_axis_arm_a.wrl"},
                                                            {"joints_showcase/joints_showcase.xml", "joints_showcase/joints_showcase_a.wrl"}};
     unsigned seed = 100;
-    for (const auto& [xml, wrl] : samples) {
+    for (const auto& [xml_, wrl] : samples) {
+        const auto& xml = xml_;  // (CAPTURE cannot capture a structured binding)
         CAPTURE(xml);
         mbx_files::FileAdapterOptions options;
         options.shapes_path = dir + "/" + wrl;

@@ -174,7 +174,8 @@ TEST_CASE("export api: mesh_format picks the meshes/ files; MJCF and URDF still 
     REQUIRE(r.status == MBX_OK);
     for (const auto& [format, ext] : std::vector<std::pair<mbx_mesh_format, std::string>>{
              {MBX_MESH_STL, ".stl"}, {MBX_MESH_OBJ, ".obj"}, {MBX_MESH_GLTF, ".glb"}}) {
-        CAPTURE(ext);
+        const std::string extension = ext;  // (C++17 lambdas, CAPTURE's among them, cannot capture a binding)
+        CAPTURE(extension);
         TempDir only_meshes, with_models;
         REQUIRE(export_run(r, only_meshes.path, MBX_EXPORT_MESHES, format) == MBX_OK);
         std::set<std::string> exts;

@@ -1254,10 +1254,11 @@ TEST_CASE("mechatronics api: a drive file with problems changes nothing and list
     CHECK(api().mechatronics_load_drives(ctx, mt.get(), path.c_str()) == MBX_ERROR_INVALID_INPUT);
     const LastError e = last_error(ctx);
     CHECK_MESSAGE(contains(e.message, "4 problems"), e.message);
-    for (auto [line, who, what] : {std::tuple<int, const char*, const char*>{typo, "typo", "kdd"},
+    for (auto [line, who_, what] : {std::tuple<int, const char*, const char*>{typo, "typo", "kdd"},
                                    {negative, "negative", "kp must not be negative"},
                                    {backwards, "backwards", "increase strictly"},
                                    {fractional, "fractional", "whole number of sample periods"}}) {
+        const char* who = who_;  // (CAPTURE cannot capture a structured binding)
         CAPTURE(who);
         CHECK_MESSAGE(contains(e.message, path + ":" + std::to_string(line) + ": " + who + ": "), e.message);
         CHECK_MESSAGE(contains(e.message, what), e.message);
@@ -1396,7 +1397,8 @@ TEST_CASE("mechatronics api: the five-axis arm's drive file attaches 5 drives an
     const std::map<std::string, std::string> constraint_of_drive = {
         {"waist", "40:-:41"}, {"shoulder", "41:-:42"}, {"elbow", "42:-:43"}, {"wrist_pitch", "43:-:44"},
         {"wrist_roll", "44:-:45"}};
-    for (const auto& [name, constraint] : constraint_of_drive) {
+    for (const auto& [name_, constraint] : constraint_of_drive) {
+        const std::string& name = name_;  // (CAPTURE cannot capture a structured binding)
         CAPTURE(name);
         REQUIRE(d.count(name));
         CHECK(constraint_of(r.get(), d.at(name).info.joint) == constraint);

@@ -53,9 +53,10 @@ mbx_stub::Assembly fourbar_with(const std::vector<Prim>& coupler_chain) {
 // (several joints on one body), so the two describe the same mechanism
 // exactly. Measured agreement of the accelerations ~1e-15 relative.
 TEST_CASE("sim: a universal and a three-revolute joint with massless nodes move as MuJoCo says") {
-    for (const auto& [label, chain] : std::vector<std::pair<std::string, std::vector<Prim>>>{
+    for (const auto& [label_, chain] : std::vector<std::pair<std::string, std::vector<Prim>>>{
              {"universal", {revolute(Vec3(1, 0, 0)), revolute(Vec3(0, 1, 0.2))}},
              {"three revolutes", {revolute(Vec3(1, 0, 0)), revolute(Vec3(0, 1, 0)), revolute(Vec3(0.1, 0.2, 1))}}}) {
+        const std::string& label = label_;  // (CAPTURE cannot capture a structured binding)
         CAPTURE(label);
         auto t = xtest::translate(hanging("nodes", chain));
         mbx_test::TempDir dir("mbx_sim_nodes");
