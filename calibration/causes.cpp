@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibration/filters.h"
+#include "mechatronics/body_mass.h"
 
 namespace mbx::calibration {
 
@@ -220,14 +221,12 @@ bool Candidate::physical(const Eigen::VectorXd& theta) const {
         // An inertia about the centre of mass no rigid body has (not
         // positive definite, or a principal moment above the sum of the
         // other two) is a fit to noise or to another cause.
+        // (The check the description file's reader makes, so what is named can be written.)
         if (!b.inertia_change.isZero(0)) {
             const double one = 1;
             const sim::Inertia<double> c =
                 corrected_inertia(body_inertia, one, b.com_shift.data(), b.inertia_change.data());
-            const Eigen::Vector3d com = c.h / c.mass;
-            const Eigen::Matrix3d about = c.I - c.mass * (com.dot(com) * Eigen::Matrix3d::Identity() - com * com.transpose());
-            const Eigen::Vector3d p = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(about).eigenvalues();
-            if (!(p[0] > 0) || p[2] > p[0] + p[1]) return false;
+            if (!implausible_inertia(about_com(c)).empty()) return false;
         }
         return true;
     }
@@ -245,9 +244,8 @@ BodyCorrection BodyCorrection::after(const BodyCorrection& first) const {
 double largest_com_shift(const sim::Inertia<double>& inertia) {
     const double m = inertia.mass;
     if (!(m > 0)) return 0;
-    const Eigen::Vector3d c = inertia.h / m;
-    const double about_com = inertia.I.trace() - 2 * m * c.squaredNorm();
-    return std::max(std::sqrt(std::max(0.0, about_com) / m), 0.5 * c.norm());
+    const double gyration = std::sqrt(std::max(0.0, about_com(inertia).trace()) / m);
+    return std::max(gyration, 0.5 * (inertia.h / m).norm());
 }
 
 bool Candidate::shifts_com() const {
@@ -281,15 +279,12 @@ BodyCorrection Candidate::body_correction(const Eigen::VectorXd& theta) const {
     for (int k = 0; k < 3; ++k)
         if (!seen[k]) unseen.push_back(k);
     if (b.inertia_change.isZero(0) || unseen.empty() || !(body_inertia.mass > 0)) return b;
-    const double m = body_inertia.mass;
-    const Eigen::Vector3d c = body_inertia.h / m;
-    const Eigen::Matrix3d about = body_inertia.I - m * (c.dot(c) * Eigen::Matrix3d::Identity() - c * c.transpose());
+    const Eigen::Matrix3d about = about_com(body_inertia);
     auto excess = [&](double t) {
-        Eigen::Matrix<double, 6, 1> e = b.inertia_change;
-        for (int k : unseen) e[k] += t;
-        Eigen::Matrix3d I = b.mass_scale * about;
-        I(0, 0) += e[0], I(1, 1) += e[1], I(2, 2) += e[2];
-        I(0, 1) += e[3], I(1, 0) += e[3], I(0, 2) += e[4], I(2, 0) += e[4], I(1, 2) += e[5], I(2, 1) += e[5];
+        InertiaEntries e;
+        for (int k = 0; k < 6; ++k) e[size_t(k)] = b.inertia_change[k];
+        for (int k : unseen) e[size_t(k)] += t;
+        const Eigen::Matrix3d I = b.mass_scale * about + inertia_from_entries(e);
         const Eigen::Vector3d p = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
         return std::max(p[2] - p[0] - p[1], -p[0]);
     };

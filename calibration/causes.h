@@ -25,6 +25,12 @@ struct BodyCorrection {
     BodyCorrection after(const BodyCorrection& first) const;
 };
 
+// The inertia about the centre of mass (body axes): from_com's inverse.
+template <class S> sim::Mat3T<S> about_com(const sim::Inertia<S>& inertia) {
+    const sim::Vec3T<S> c = inertia.h / inertia.mass;
+    return inertia.I - inertia.mass * (c.dot(c) * sim::Mat3T<S>::Identity() - c * c.transpose());
+}
+
 // `inertia` (the body frame's) with the correction applied. Templated so the
 // simulation fit's Jets carry it.
 template <class S>
@@ -32,7 +38,7 @@ sim::Inertia<S> corrected_inertia(const sim::Inertia<S>& inertia, const S& mass_
                                   const S* inertia_change) {
     const S m = inertia.mass;
     const sim::Vec3T<S> c = inertia.h / m;
-    sim::Mat3T<S> about_com = inertia.I - m * (c.dot(c) * sim::Mat3T<S>::Identity() - c * c.transpose());
+    sim::Mat3T<S> about_com = calibration::about_com(inertia);
     sim::Mat3T<S> change;
     change << inertia_change[0], inertia_change[3], inertia_change[4], inertia_change[3], inertia_change[1],
         inertia_change[5], inertia_change[4], inertia_change[5], inertia_change[2];

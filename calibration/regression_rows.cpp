@@ -227,11 +227,9 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         sim::update_kinematics(unit, unit_data);
         for (int b = 1; b < m.body_count(); ++b) {
             if (!(m.bodies[size_t(b)].inertia.mass > 0)) continue;  // massless CAD joint nodes
-            Eigen::Matrix<double, kInertialParameters, 1> e = Eigen::Matrix<double, kInertialParameters, 1>::Zero();
             for (int k = 0; k < kInertialParameters; ++k) {
-                e.setZero();
-                e[k] = 1;
-                unit.bodies[size_t(b)].inertia = inertia_of_parameters(e);
+                unit.bodies[size_t(b)].inertia =
+                    inertia_of_parameters(Eigen::Matrix<double, kInertialParameters, 1>::Unit(k));
                 sim::inverse_dynamics(unit, unit_data, qdd_full, tau);
                 const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
                 for (Eigen::Index a = 0; a < A; ++a)

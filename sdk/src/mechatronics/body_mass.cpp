@@ -23,7 +23,8 @@ void correct(CadInertia::Body& b, double mass_scale, const Vec3& com_shift, cons
     b.com += com_shift;
 }
 
-// Why no rigid body has this inertia about its centre of mass ("" if one can).
+}  // namespace
+
 std::string implausible_inertia(const Mat3& inertia) {
     const Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia, Eigen::EigenvaluesOnly);
     const Vec3 p = eig.eigenvalues();  // ascending
@@ -35,8 +36,6 @@ std::string implausible_inertia(const Mat3& inertia) {
     if (p[2] > (p[0] + p[1]) * (1 + 1e-6)) return "a corrected principal moment exceeds the sum of the other two";
     return "";
 }
-
-}  // namespace
 
 std::vector<ResolvedBodyMass> resolve_body_masses(const std::vector<BodyMassSpec>& specs, const Mechanism& m,
                                                   const CadInertia* cad, std::vector<LibraryError>& errors) {

@@ -24,6 +24,10 @@ struct Mechanism;
 using InertiaEntries = std::array<double, 6>;
 Mat3 inertia_from_entries(const InertiaEntries& e);
 
+// Why no rigid body has this inertia about its centre of mass: not positive
+// definite, or a principal moment above the sum of the other two ("" if one can).
+std::string implausible_inertia(const Mat3& inertia_about_com);
+
 struct BodyMassSpec {
     std::string body;  // the rigid body's id (its principal CAD part id), or any of its parts' ids
     // The whole inertia times mass_scale (the same shape, more or less material) ...
