@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "calibration/calibrate.h"
-#include "drives_support.h"
-#include "hidden_effects.h"
+#include "tests/export/drives_support.h"
+#include "tests/calibration/hidden_effects.h"
 #include "sim/resolved_joint_dynamics.h"
 #include "temp_dir.h"
 

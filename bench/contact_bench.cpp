@@ -23,15 +23,15 @@
 #include <string>
 #include <vector>
 
-#include "calibration/contact_fit.h"
-#include "contact_scenes.h"
-#include "cube_tosses.h"
-#include "memory_host.h"
-#include "assembly/host_reader.h"
+#include "calibration/simulation/contact_fit.h"
+#include "tests/contact/contact_scenes.h"
+#include "tests/contact/cube_tosses.h"
+#include "host_adapters/memory/memory_host.h"
+#include "core/assembly/host_reader.h"
 #include "core/progress.h"
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
-#include "translator/translate.h"
+#include "core/translator/translate.h"
 
 namespace {
 

@@ -19,12 +19,12 @@
 
 #include <pugixml.hpp>
 
-#include "assembly/host_reader.h"
-#include "mechatronics/drive.h"
-#include "mechatronics/drive_controller.h"
-#include "mechatronics/drive_file.h"
-#include "stub_assembly.h"
-#include "translator/translate.h"
+#include "core/assembly/host_reader.h"
+#include "core/mechatronics/drive.h"
+#include "core/mechatronics/drive_controller.h"
+#include "core/mechatronics/drive_file.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
+#include "core/translator/translate.h"
 
 namespace {
 

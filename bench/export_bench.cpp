@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "assembly/host_reader.h"
-#include "export_files.h"
-#include "stub_assembly.h"
-#include "translator/translate.h"
+#include "core/assembly/host_reader.h"
+#include "export/export_files.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
+#include "core/translator/translate.h"
 
 namespace {
 

@@ -41,11 +41,11 @@
 
 #include <pugixml.hpp>
 
-#include "file_adapter.h"
-#include "generate_pmxml.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
+#include "samples/tools/generate_pmxml.h"
 #include "mbx/mbx.h"
 #include "peak_memory.h"
-#include "pmxml_reader.h"
+#include "host_adapters/pmxml_vrml/pmxml_reader.h"
 
 namespace {
 

@@ -28,17 +28,17 @@
 #include <string>
 #include <vector>
 
-#include "assembly/host_reader.h"
-#include "assembly/shape_loader.h"
-#include "builder.h"
-#include "common/export_model.h"
-#include "common/names.h"
-#include "export_files.h"
-#include "mjcf/mjcf_layout.h"
+#include "core/assembly/host_reader.h"
+#include "core/assembly/shape_loader.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "export/common/export_model.h"
+#include "export/common/names.h"
+#include "export/export_files.h"
+#include "export/mjcf/mjcf_layout.h"
 #include "sim/build_model.h"
 #include "sim/integrator.h"
-#include "stub_assembly.h"
-#include "translator/translate.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
+#include "core/translator/translate.h"
 
 namespace {
 

@@ -19,7 +19,7 @@
 
 #include "mbx/mbx.h"
 #include "peak_memory.h"
-#include "stub_assembly.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 namespace {
 

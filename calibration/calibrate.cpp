@@ -3,10 +3,10 @@
 #include <chrono>
 #include <cmath>
 
-#include "calibration/body_quantities.h"
-#include "calibration/model_extension.h"
-#include "calibration/replay.h"
-#include "calibration/transmission_stage.h"
+#include "calibration/records/body_quantities.h"
+#include "calibration/simulation/model_extension.h"
+#include "calibration/simulation/replay.h"
+#include "calibration/simulation/transmission_stage.h"
 #include "core/finding.h"
 
 namespace mbx::calibration {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "calibration/contact_stage.h"
-#include "calibration/identify.h"
-#include "calibration/records.h"
+#include "calibration/simulation/contact_stage.h"
+#include "calibration/identification/identify.h"
+#include "calibration/records/records.h"
 #include "sim/build_model.h"
 
 namespace mbx::calibration {

@@ -5,7 +5,7 @@
 #include "mesh/mesh_export.h"
 #include "mjcf/mjcf_export.h"
 #include "modelica/modelica_export.h"
-#include "report/atomic_file.h"
+#include "core/report/atomic_file.h"
 #include "urdf/urdf_export.h"
 
 namespace mbx {

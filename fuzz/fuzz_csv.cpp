@@ -1,5 +1,5 @@
 // The measured-data CSV reader from text.
-#include "calibration/records.h"
+#include "calibration/records/records.h"
 #include "core/finding.h"
 #include "fuzz_common.h"
 

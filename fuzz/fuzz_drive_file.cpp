@@ -3,7 +3,7 @@
 #include <cstdlib>
 
 #include "fuzz_common.h"
-#include "mechatronics/drive_file.h"
+#include "core/mechatronics/drive_file.h"
 
 namespace {
 const mbx::ObjectLibrary& bundled_library() {

@@ -1,5 +1,5 @@
 // The calibration experiment file from text.
-#include "calibration/experiment.h"
+#include "calibration/records/experiment.h"
 #include "core/finding.h"
 #include "fuzz_common.h"
 

@@ -1,7 +1,7 @@
 // The object library from text, then what consumers ask of it: every object
 // by ID and the SI value of each of its parameters.
 #include "fuzz_common.h"
-#include "mechatronics/object_library.h"
+#include "core/mechatronics/object_library.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     mbx::ObjectLibrary library;

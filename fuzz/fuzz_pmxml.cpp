@@ -5,9 +5,9 @@
 #include <mbx/mbx.h>
 
 #include "fuzz_common.h"
-#include "memory_host.h"
-#include "pmxml_assembly.h"
-#include "pmxml_reader.h"
+#include "host_adapters/memory/memory_host.h"
+#include "host_adapters/pmxml_vrml/pmxml_assembly.h"
+#include "host_adapters/pmxml_vrml/pmxml_reader.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
 // The VRML97 reader from text. Default limits, as the file adapter uses them.
 #include "fuzz_common.h"
-#include "vrml_reader.h"
+#include "host_adapters/pmxml_vrml/vrml_reader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {

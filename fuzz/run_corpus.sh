@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang-15, ASan+UBSan, fuzz/CMakeLists.txt) and
-# runs each on the committed corpus for a short while: what CI does. The
+# Builds the libFuzzer targets in the sanitizer build (build-asan/: clang-15,
+# ASan+UBSan and coverage, .ci/configure; the sanitizer suite's build, so after
+# `.ci/test --sanitize` only the fuzz executables are linked) and runs each on
+# the committed corpus for a short while: what CI does. The
 # corpus in fuzz/corpus/ is only read; new inputs go to a scratch folder.
 #   fuzz/run_corpus.sh                 every target, 30 s each
 #   fuzz/run_corpus.sh 600 vrml csv    chosen targets, 10 min each
@@ -13,13 +15,9 @@ seconds=${1:-30}
 shift || true
 targets=("$@")
 ((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table)
-dir=${MBX_FUZZ_BUILD_DIR:-build-fuzz}
 bash .ci/install-deps  # clang-15, libfuzzer-15-dev, libomp-15-dev among them
+dir=$(bash .ci/configure sanitize)
 out=${MBX_FUZZ_OUT:-$dir/artifacts}
-
-CC=clang-15 CXX=clang++-15 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMBX_FUZZ=ON \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" \
-  -DMBX_BUILD_TESTS=OFF -DMBX_BUILD_BENCH=OFF >/dev/null
 cmake --build "$dir" -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
 mkdir -p "$out"

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "kinematics/placement.h"
+#include "core/kinematics/placement.h"
 #include "sim/data.h"
 #include "sim/dynamics.h"
 #include "sim/loop_closure.h"

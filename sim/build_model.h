@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "sim/model.h"
-#include "translator/mechanism.h"
+#include "core/translator/mechanism.h"
 
 namespace mbx::sim {
 

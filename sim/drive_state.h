@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "mechatronics/drive_controller.h"
+#include "core/mechatronics/drive_controller.h"
 
 namespace mbx::sim {
 

@@ -11,7 +11,8 @@
 #include <vector>
 
 #include "core/finding.h"
-#include "mechatronics/drive.h"
+#include "core/mechatronics/drive.h"
+#include "core/mechatronics/joint_dynamics_fields.h"
 #include "sim/joint_motion.h"
 
 namespace mbx::sim {
@@ -37,11 +38,11 @@ template <class S> struct JointDynamicsT {
 
     template <class T> JointDynamicsT<T> cast() const {
         JointDynamicsT<T> r;
-        r.damping = T(damping), r.coulomb = T(coulomb), r.coulomb_velocity = T(coulomb_velocity);
+#define MBX_CAST_FIELD(field) r.field = T(field);
+        MBX_JOINT_DYNAMICS_SCALARS(MBX_CAST_FIELD)
+#undef MBX_CAST_FIELD
         r.asymmetric = asymmetric, r.damping_negative = T(damping_negative), r.coulomb_negative = T(coulomb_negative);
-        r.stribeck = T(stribeck), r.stribeck_velocity = T(stribeck_velocity), r.offset = T(offset);
-        r.stiffness = T(stiffness), r.rest = T(rest), r.armature = T(armature);
-        r.limited = limited, r.lower = T(lower), r.upper = T(upper);
+        r.limited = limited;
         r.limit_stiffness = T(limit_stiffness), r.limit_damping = T(limit_damping);
         return r;
     }

@@ -5,7 +5,7 @@
 #include <map>
 #include <vector>
 
-#include "mechatronics/joint_dynamics.h"
+#include "core/mechatronics/joint_dynamics.h"
 #include "sim/model.h"
 
 namespace mbx::sim {
@@ -17,21 +17,13 @@ inline std::map<int, JointDynamics> joint_dynamics_by_joint(const std::vector<Re
     std::map<int, JointDynamics> out;
     for (const ResolvedJointDynamics& r : resolved) {
         JointDynamics& jd = out[r.joint];
-        jd.damping = r.damping;
-        jd.coulomb = r.coulomb;
-        jd.coulomb_velocity = r.coulomb_velocity;
+#define MBX_COPY_FROM_RESOLVED(field) jd.field = r.field;
+        MBX_JOINT_DYNAMICS_SCALARS(MBX_COPY_FROM_RESOLVED)
+#undef MBX_COPY_FROM_RESOLVED
         jd.asymmetric = r.asymmetric();
         jd.damping_negative = r.damping_negative;
         jd.coulomb_negative = r.coulomb_negative;
-        jd.stribeck = r.stribeck;
-        jd.stribeck_velocity = r.stribeck_velocity;
-        jd.offset = r.offset;
-        jd.stiffness = r.stiffness;
-        jd.rest = r.rest;
-        jd.armature = r.armature;
         jd.limited = r.limited;
-        jd.lower = r.lower;
-        jd.upper = r.upper;
     }
     return out;
 }

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <map>
 
-#include "report/atomic_file.h"
-#include "report/json_writer.h"
+#include "core/report/atomic_file.h"
+#include "core/report/json_writer.h"
 #include "sim/cvode_session.h"
 #include "sim/transmission.h"
 

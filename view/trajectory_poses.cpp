@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "calibration/records.h"
+#include "core/csv_table.h"
 #include "core/finding.h"
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
@@ -61,7 +61,7 @@ PosedTrajectory pose_configuration(ExportModel& model, const std::vector<double>
 
 PosedTrajectory pose_trajectory(ExportModel& model, const std::string& trajectory_csv) {
     const Posing p = posing(model);
-    const calibration::Table table = calibration::read_csv(trajectory_csv);
+    const CsvTable table = read_csv_table(trajectory_csv, Subject::model("trajectory"));
     // Which column holds each position coordinate: a joint's block in
     // trajectory_columns starts with its positions, in q order.
     const std::vector<std::string> columns = sim::trajectory_columns(p.model);

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/export_model.h"
+#include "export/common/export_model.h"
 
 namespace mbx {
 

@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "core/finding.h"
-#include "mesh/collision_meshes.h"
-#include "mesh/mesh_export.h"
+#include "export/mesh/collision_meshes.h"
+#include "export/mesh/mesh_export.h"
 
 namespace mbx {
 

@@ -1,6 +1,6 @@
-#include "common/export_model.h"
+#include "export/common/export_model.h"
 
-#include "common/names.h"
+#include "export/common/names.h"
 
 namespace mbx {
 

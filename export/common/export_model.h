@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "assembly/shape_loader.h"
-#include "kinematics/placement.h"
-#include "mechatronics/drive.h"
-#include "translator/mechanism.h"
+#include "core/assembly/shape_loader.h"
+#include "core/kinematics/placement.h"
+#include "core/mechatronics/drive.h"
+#include "core/translator/mechanism.h"
 
 namespace mbx {
 

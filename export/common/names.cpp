@@ -1,4 +1,4 @@
-#include "common/names.h"
+#include "export/common/names.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "mesh/assimp_scene.h"
+#include "export/mesh/assimp_scene.h"
 
 #include <cmath>
 #include <limits>

@@ -8,7 +8,7 @@
 
 #include <assimp/scene.h>
 
-#include "assembly/shape_loader.h"
+#include "core/assembly/shape_loader.h"
 #include "core/finding.h"
 #include "core/math.h"
 

@@ -1,4 +1,4 @@
-#include "mesh/collision_meshes.h"
+#include "export/mesh/collision_meshes.h"
 
 #include <cctype>
 #include <cmath>

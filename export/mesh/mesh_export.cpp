@@ -1,10 +1,10 @@
-#include "mesh/mesh_export.h"
+#include "export/mesh/mesh_export.h"
 
 #include <algorithm>
 #include <cstring>
 
-#include "mesh/assimp_scene.h"
-#include "mesh/collision_meshes.h"
+#include "export/mesh/assimp_scene.h"
+#include "export/mesh/collision_meshes.h"
 
 namespace mbx {
 

@@ -1,4 +1,4 @@
-#include "mjcf/mjcf_contact.h"
+#include "export/mjcf/mjcf_contact.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #pragma once
 #include <string>
 
-#include "mechatronics/contact_description.h"
+#include "core/mechatronics/contact_description.h"
 
 namespace mbx {
 

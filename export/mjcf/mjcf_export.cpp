@@ -1,15 +1,15 @@
-#include "mjcf/mjcf_export.h"
+#include "export/mjcf/mjcf_export.h"
 
 #include <pugixml.hpp>
 #include <algorithm>
 #include <set>
 #include <sstream>
 
-#include "common/names.h"
-#include "common/number_text.h"
-#include "mjcf/mjcf_contact.h"
-#include "mjcf/mjcf_defaults.h"
-#include "mjcf/mjcf_layout.h"
+#include "export/common/names.h"
+#include "export/common/number_text.h"
+#include "export/mjcf/mjcf_contact.h"
+#include "export/mjcf/mjcf_defaults.h"
+#include "export/mjcf/mjcf_layout.h"
 #include "sim/build_model.h"
 #include "sim/contact/convex_hull.h"
 #include "sim/contact/detection.h"

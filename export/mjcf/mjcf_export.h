@@ -1,6 +1,6 @@
 // MuJoCo MJCF model (see docs/exporters.md).
 #pragma once
-#include "common/export_model.h"
+#include "export/common/export_model.h"
 
 namespace mbx {
 

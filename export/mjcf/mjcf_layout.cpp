@@ -1,11 +1,11 @@
-#include "mjcf/mjcf_layout.h"
+#include "export/mjcf/mjcf_layout.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
-#include "common/names.h"
-#include "common/number_text.h"
+#include "export/common/names.h"
+#include "export/common/number_text.h"
 
 namespace mbx {
 namespace {

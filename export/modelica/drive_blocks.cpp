@@ -1,4 +1,4 @@
-#include "modelica/drive_blocks.h"
+#include "export/modelica/drive_blocks.h"
 
 namespace mbx {
 

@@ -1,13 +1,13 @@
-#include "modelica/mechanics_writer.h"
+#include "export/modelica/mechanics_writer.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "common/names.h"
-#include "common/number_text.h"
-#include "modelica/model_text.h"
-#include "modelica/modelica_text.h"
+#include "export/common/names.h"
+#include "export/common/number_text.h"
+#include "export/modelica/model_text.h"
+#include "export/modelica/modelica_text.h"
 
 namespace mbx {
 

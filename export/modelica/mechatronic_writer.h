@@ -73,8 +73,8 @@
 #include <string>
 #include <vector>
 
-#include "common/export_model.h"
-#include "modelica/mechanics_writer.h"
+#include "export/common/export_model.h"
+#include "export/modelica/mechanics_writer.h"
 
 namespace mbx {
 

@@ -1,6 +1,6 @@
-#include "modelica/model_text.h"
+#include "export/modelica/model_text.h"
 
-#include "modelica/modelica_text.h"
+#include "export/modelica/modelica_text.h"
 
 namespace mbx {
 

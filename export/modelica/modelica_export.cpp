@@ -1,11 +1,11 @@
-#include "modelica/modelica_export.h"
+#include "export/modelica/modelica_export.h"
 
-#include "common/number_text.h"
-#include "mesh/mesh_export.h"
-#include "modelica/drive_blocks.h"
-#include "modelica/mechanics_writer.h"
-#include "modelica/mechatronic_writer.h"
-#include "modelica/modelica_text.h"
+#include "export/common/number_text.h"
+#include "export/mesh/mesh_export.h"
+#include "export/modelica/drive_blocks.h"
+#include "export/modelica/mechanics_writer.h"
+#include "export/modelica/mechatronic_writer.h"
+#include "export/modelica/modelica_text.h"
 
 namespace mbx {
 

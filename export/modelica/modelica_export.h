@@ -1,6 +1,6 @@
 // Modelica Standard Library 4.0 MultiBody package (see docs/exporters.md).
 #pragma once
-#include "common/export_model.h"
+#include "export/common/export_model.h"
 
 namespace mbx {
 

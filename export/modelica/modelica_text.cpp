@@ -1,8 +1,8 @@
-#include "modelica/modelica_text.h"
+#include "export/modelica/modelica_text.h"
 
 #include <cmath>
 
-#include "common/names.h"
+#include "export/common/names.h"
 
 namespace mbx {
 

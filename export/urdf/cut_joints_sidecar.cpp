@@ -1,8 +1,8 @@
-#include "urdf/cut_joints_sidecar.h"
+#include "export/urdf/cut_joints_sidecar.h"
 
 #include <cmath>
 
-#include "report/json_writer.h"
+#include "core/report/json_writer.h"
 
 namespace mbx {
 namespace {

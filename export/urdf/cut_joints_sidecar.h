@@ -5,7 +5,7 @@
 #pragma once
 #include <string>
 
-#include "urdf/urdf_layout.h"
+#include "export/urdf/urdf_layout.h"
 
 namespace mbx {
 

@@ -1,14 +1,14 @@
-#include "urdf/urdf_export.h"
+#include "export/urdf/urdf_export.h"
 
 #include <sstream>
 
 #include <pugixml.hpp>
 
-#include "common/number_text.h"
-#include "mesh/collision_meshes.h"
-#include "mesh/mesh_export.h"
-#include "urdf/cut_joints_sidecar.h"
-#include "urdf/urdf_layout.h"
+#include "export/common/number_text.h"
+#include "export/mesh/collision_meshes.h"
+#include "export/mesh/mesh_export.h"
+#include "export/urdf/cut_joints_sidecar.h"
+#include "export/urdf/urdf_layout.h"
 
 namespace mbx {
 namespace {

@@ -1,6 +1,6 @@
 // URDF (spanning tree) plus the cut-joint sidecar (see docs/exporters.md).
 #pragma once
-#include "common/export_model.h"
+#include "export/common/export_model.h"
 
 namespace mbx {
 

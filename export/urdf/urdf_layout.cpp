@@ -1,9 +1,9 @@
-#include "urdf/urdf_layout.h"
+#include "export/urdf/urdf_layout.h"
 
 #include <array>
 #include <cmath>
 
-#include "common/names.h"
+#include "export/common/names.h"
 
 namespace mbx {
 

@@ -1,4 +1,5 @@
-// The C face of the PMXML + VRML file adapter (see include/mbx/mbx_files.h).
+// The C face of the file adapters (see include/mbx/mbx_files.h): the format
+// of an input is chosen by the table in host_adapters/inputs/input_formats.h.
 // Every exception stops here: a C caller gets a status and a message.
 #include <mbx/mbx_files.h>
 
@@ -7,10 +8,11 @@
 #include <new>
 #include <string>
 
-#include "file_adapter.h"
+#include "host_adapters/common/file_error.h"
+#include "host_adapters/inputs/input_formats.h"
 
 struct mbx_file_host {
-    std::unique_ptr<mbx_files::FileAdapter> adapter;
+    std::unique_ptr<mbx_files::FileInput> adapter;
 };
 
 namespace {
@@ -31,32 +33,32 @@ int fail(mbx_files_error* error, std::string file, int line, std::string message
 
 }  // namespace
 
-extern "C" int mbx_files_open(const char* xml_path, const mbx_files_options* options, mbx_file_host** out,
+extern "C" int mbx_files_open(const char* path, const mbx_files_options* options, mbx_file_host** out,
                               mbx_files_error* error) {
     if (!out) return fail(error, "", 0, "mbx_files_open: out is NULL");
     *out = nullptr;
-    if (!xml_path || !*xml_path) return fail(error, "", 0, "mbx_files_open: no XML file given");
+    if (!path || !*path) return fail(error, "", 0, "mbx_files_open: no input file given");
     if (options && options->struct_size < sizeof(mbx_files_options))
-        return fail(error, xml_path, 0, "mbx_files_open: options.struct_size is too small");
+        return fail(error, path, 0, "mbx_files_open: options.struct_size is too small");
     try {
-        mbx_files::FileAdapterOptions o;
+        mbx_files::FileInputOptions o;
         if (options) {
             if (options->shapes) o.shapes_path = options->shapes;
             if (options->mesh_dir_count && !options->mesh_dirs)
-                return fail(error, xml_path, 0, "mbx_files_open: mesh_dir_count > 0 but mesh_dirs is NULL");
+                return fail(error, path, 0, "mbx_files_open: mesh_dir_count > 0 but mesh_dirs is NULL");
             for (uint32_t i = 0; i < options->mesh_dir_count; ++i)
                 if (options->mesh_dirs[i]) o.mesh_dirs.emplace_back(options->mesh_dirs[i]);
         }
         auto files = std::make_unique<mbx_file_host>();
-        files->adapter = mbx_files::FileAdapter::open(xml_path, o);
+        files->adapter = mbx_files::open_input(path, o);
         *out = files.release();
         return 0;
     } catch (const mbx_files::FileError& e) {
         return fail(error, e.file(), e.line(), e.message());
     } catch (const std::bad_alloc&) {
-        return fail(error, xml_path, 0, "out of memory");
+        return fail(error, path, 0, "out of memory");
     } catch (const std::exception& e) {
-        return fail(error, xml_path, 0, e.what());
+        return fail(error, path, 0, e.what());
     }
 }
 

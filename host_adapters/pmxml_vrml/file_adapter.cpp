@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "mesh_file.h"
+#include "host_adapters/common/mesh_file.h"
 #include "pmxml_assembly.h"
 #include "pmxml_reader.h"
 #include "vrml_reader.h"

@@ -19,30 +19,28 @@
 #include <string>
 #include <vector>
 
-#include "file_error.h"
-#include "memory_host.h"
+#include "host_adapters/common/file_error.h"
+#include "host_adapters/common/file_input.h"
+#include "host_adapters/memory/memory_host.h"
 #include "pmxml_model.h"
-#include "shape_matching.h"
+#include "host_adapters/common/shape_matching.h"
 
 namespace mbx_files {
 
-struct FileAdapterOptions {
-    std::string shapes_path;  // VRML97 scene holding the parts' shapes; "" = none
-    // Searched for geometryFileName after the XML's own directory.
-    std::vector<std::string> mesh_dirs;
-    MatchOptions match;  // pose matching of VRML shapes to bodies
-};
+// shapes_path: a VRML97 scene; mesh_dirs: searched for geometryFileName
+// after the XML's own directory.
+using FileAdapterOptions = FileInputOptions;
 
-class FileAdapter {
+class FileAdapter final : public FileInput {
 public:
     // Reads everything but the mesh files. Throws FileError (file, line,
     // message) for an unusable XML or VRML file.
     static std::unique_ptr<FileAdapter> open(const std::string& xml_path, const FileAdapterOptions& options = {});
-    ~FileAdapter();
+    ~FileAdapter() override;
     FileAdapter(const FileAdapter&) = delete;
     FileAdapter& operator=(const FileAdapter&) = delete;
 
-    const mbx_host* table() const;
+    const mbx_host* table() const override;
     // What the host serves (VRML shapes included; mesh files are not, they load on demand).
     const mbx_memory::Assembly& assembly() const;
     const PmxmlModel& model() const;

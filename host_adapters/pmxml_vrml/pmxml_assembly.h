@@ -2,7 +2,7 @@
 // pose with their own units, joint-end and user-added frames in WORLD,
 // SimpleJoints as constraints with world axes and the exporter's status.
 #pragma once
-#include "memory_host.h"
+#include "host_adapters/memory/memory_host.h"
 #include "pmxml_model.h"
 
 namespace mbx_files {

@@ -15,7 +15,7 @@
 #include <Eigen/Dense>
 #include <mbx/mbx.h>
 
-#include "memory_host.h"
+#include "host_adapters/memory/memory_host.h"
 
 namespace mbx_files {
 

@@ -17,11 +17,11 @@
 
 #include <pugixml.hpp>
 
-#include "line_index.h"
-#include "numbers.h"
+#include "host_adapters/common/line_index.h"
+#include "host_adapters/common/numbers.h"
 #include "pmxml_outline.h"
 #include "pmxml_part_tree.h"
-#include "units.h"
+#include "host_adapters/common/units.h"
 
 namespace mbx_files {
 namespace {

@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "file_error.h"
+#include "host_adapters/common/file_error.h"
 #include "pmxml_model.h"
 
 namespace mbx_files {

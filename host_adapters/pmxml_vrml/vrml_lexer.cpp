@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "vrml_message.h"
-#include "vrml_scene.h"
+#include "host_adapters/common/vrml_scene.h"
 
 namespace mbx_files::vrml {
 namespace {

@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "vrml_ast.h"
-#include "vrml_scene.h"
+#include "host_adapters/common/vrml_scene.h"
 #include "vrml_stack_guard.h"
 
 namespace mbx_files::vrml {

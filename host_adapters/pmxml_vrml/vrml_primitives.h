@@ -4,7 +4,7 @@
 // use `segments` facets around the Y axis, so volumes come out slightly
 // below the analytic ones.
 #pragma once
-#include "vrml_scene.h"
+#include "host_adapters/common/vrml_scene.h"
 
 namespace mbx_files::vrml {
 

@@ -71,7 +71,7 @@
 #include <string>
 #include <string_view>
 
-#include "vrml_scene.h"
+#include "host_adapters/common/vrml_scene.h"
 
 namespace mbx_files {
 

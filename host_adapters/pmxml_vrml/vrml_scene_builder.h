@@ -14,7 +14,7 @@
 #include "vrml_inline_paths.h"
 #include "vrml_message.h"
 #include "vrml_parser.h"
-#include "vrml_scene.h"
+#include "host_adapters/common/vrml_scene.h"
 
 namespace mbx_files::vrml {
 

@@ -5,7 +5,7 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
-#include "file_adapter.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "stl_text.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"

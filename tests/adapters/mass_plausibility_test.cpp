@@ -15,7 +15,7 @@
 #include <pugixml.hpp>
 
 #include "adapter_test_support.h"
-#include "file_adapter.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"
 

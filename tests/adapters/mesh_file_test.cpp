@@ -5,7 +5,7 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
-#include "mesh_file.h"
+#include "host_adapters/common/mesh_file.h"
 #include "stl_text.h"
 
 using mbx_files::load_mesh_file;

@@ -12,9 +12,9 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
-#include "generate_pmxml.h"
-#include "pmxml_outline.h"
-#include "pmxml_reader.h"
+#include "samples/tools/generate_pmxml.h"
+#include "host_adapters/pmxml_vrml/pmxml_outline.h"
+#include "host_adapters/pmxml_vrml/pmxml_reader.h"
 #include "tiny_pmxml.h"
 
 using namespace mbx_files;

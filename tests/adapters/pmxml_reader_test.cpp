@@ -6,8 +6,8 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
-#include "pmxml_assembly.h"
-#include "pmxml_reader.h"
+#include "host_adapters/pmxml_vrml/pmxml_assembly.h"
+#include "host_adapters/pmxml_vrml/pmxml_reader.h"
 #include "tiny_pmxml.h"
 
 using namespace mbx_files;

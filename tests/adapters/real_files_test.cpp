@@ -12,7 +12,7 @@
 #include <pugixml.hpp>
 
 #include "adapter_test_support.h"
-#include "file_adapter.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "translation_support.h"
 
 using mbx_files::FileAdapter;

@@ -4,8 +4,8 @@
 
 #include <doctest/doctest.h>
 
-#include "numbers.h"
-#include "units.h"
+#include "host_adapters/common/numbers.h"
+#include "host_adapters/common/units.h"
 
 using mbx_files::parse_number;
 using mbx_files::parse_number_list;

@@ -11,12 +11,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "calibration/body_quantities.h"
+#include "calibration/records/body_quantities.h"
 #include "calibration/calibrate.h"
-#include "calibration/calibration_files.h"
+#include "calibration/outputs/calibration_files.h"
 #include "core/finding.h"
-#include "drives_support.h"
-#include "export_fixture.h"
+#include "tests/export/drives_support.h"
+#include "tests/export/export_fixture.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"

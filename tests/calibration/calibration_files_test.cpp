@@ -12,12 +12,12 @@
 #include <regex>
 
 #include "calibration/calibrate.h"
-#include "calibration/calibration_files.h"
-#include "calibration/replay.h"
+#include "calibration/outputs/calibration_files.h"
+#include "calibration/simulation/replay.h"
 #include "core/finding.h"
-#include "drives_support.h"
-#include "export_fixture.h"
-#include "file_text.h"
+#include "tests/export/drives_support.h"
+#include "tests/export/export_fixture.h"
+#include "tests/common/file_text.h"
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
 #include "temp_dir.h"

@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "calibration/calibrate.h"
-#include "calibration/calibration_files.h"
+#include "calibration/outputs/calibration_files.h"
 #include "hidden_effects.h"
-#include "mechatronics/drive_file.h"
+#include "core/mechatronics/drive_file.h"
 #include "temp_dir.h"
 
 using namespace mbx;

@@ -8,8 +8,8 @@
 #include <doctest/doctest.h>
 
 #include "calibration/calibrate.h"
-#include "drives_support.h"
-#include "export_fixture.h"
+#include "tests/export/drives_support.h"
+#include "tests/export/export_fixture.h"
 
 using namespace mbx;
 using namespace mbx::calibration;

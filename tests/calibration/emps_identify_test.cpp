@@ -8,9 +8,9 @@
 
 #include <set>
 
-#include "calibration/identify.h"
-#include "drives_support.h"
-#include "export_fixture.h"
+#include "calibration/identification/identify.h"
+#include "tests/export/drives_support.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 
 using namespace mbx;

@@ -40,14 +40,14 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "builder.h"
-#include "common/export_model.h"
-#include "common/names.h"
-#include "export_files.h"
-#include "mjcf/mjcf_layout.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "export/common/export_model.h"
+#include "export/common/names.h"
+#include "export/export_files.h"
+#include "export/mjcf/mjcf_layout.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
-#include "stub_assembly.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 namespace mbx_test {
 

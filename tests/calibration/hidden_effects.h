@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "export_fixture.h"
+#include "tests/export/export_fixture.h"
 
 namespace mbx_test {
 

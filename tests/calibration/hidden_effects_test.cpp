@@ -16,7 +16,7 @@
 #include <set>
 #include <sstream>
 
-#include "calibration/causes.h"
+#include "calibration/identification/causes.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/dynamics.h"

@@ -14,14 +14,14 @@
 #include <map>
 #include <sstream>
 
-#include "calibration/identify.h"
-#include "calibration/nonlinear_fit.h"
-#include "calibration/transmission_stage.h"
+#include "calibration/identification/identify.h"
+#include "calibration/simulation/nonlinear_fit.h"
+#include "calibration/simulation/transmission_stage.h"
 #include "core/finding.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
-#include "slow_build.h"
+#include "tests/common/slow_build.h"
 #include "temp_dir.h"
 
 using namespace mbx;

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "calibration/records.h"
+#include "calibration/records/records.h"
 #include "core/finding.h"
 
 using namespace mbx::calibration;

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "calibration/calibrate.h"
-#include "calibration/model_extension.h"
-#include "calibration/replay.h"
+#include "calibration/simulation/model_extension.h"
+#include "calibration/simulation/replay.h"
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "sim/dynamics.h"

@@ -9,13 +9,13 @@
 #include <cmath>
 
 #include "calibration/calibrate.h"
-#include "calibration/calibration_files.h"
-#include "calibration/model_extension.h"
-#include "calibration/transmission_stage.h"
+#include "calibration/outputs/calibration_files.h"
+#include "calibration/simulation/model_extension.h"
+#include "calibration/simulation/transmission_stage.h"
 #include "hidden_effects.h"
-#include "mechatronics/drive_file.h"
+#include "core/mechatronics/drive_file.h"
 #include "sim/resolved_joint_dynamics.h"
-#include "slow_build.h"
+#include "tests/common/slow_build.h"
 #include "temp_dir.h"
 
 using namespace mbx;

@@ -10,10 +10,10 @@
 #include <fstream>
 
 #include "calibration/calibrate.h"
-#include "calibration/calibration_files.h"
+#include "calibration/outputs/calibration_files.h"
 #include "core/finding.h"
 #include "cube_tosses.h"
-#include "slow_build.h"
+#include "tests/common/slow_build.h"
 #include "temp_dir.h"
 
 using namespace mbx;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "sim/contact/contact_step.h"
 
 namespace mbx_test {

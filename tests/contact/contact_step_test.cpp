@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "contact_scenes.h"
-#include "export_fixture.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
 #include "sim/dynamics.h"

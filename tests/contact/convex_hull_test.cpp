@@ -29,9 +29,18 @@ TEST_CASE("convex hull: every point inside, faces outward, a closed surface, onl
     for (int trial = 0; trial < 20; ++trial) {
         std::vector<Eigen::Vector3d> points;
         const int n = 20 + 50 * trial;
-        for (int i = 0; i < n; ++i) points.emplace_back(gauss(rng), 0.3 * gauss(rng), 2 * gauss(rng));
-        // Points on a sphere are all on the hull; inside the cloud, none is.
-        for (int i = 0; i < 30; ++i) points.push_back(5 * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized());
+        // Coordinates drawn one statement at a time: the order in which a
+        // call's arguments are evaluated differs between compilers.
+        auto draw = [&](double sx, double sy, double sz) {
+            const double x = sx * gauss(rng);
+            const double y = sy * gauss(rng);
+            const double z = sz * gauss(rng);
+            return Eigen::Vector3d(x, y, z);
+        };
+        for (int i = 0; i < n; ++i) points.push_back(draw(1, 0.3, 2));
+        // Points on a sphere are all on the hull, and the cloud (tens of
+        // standard deviations inside it) hides none of them.
+        for (int i = 0; i < 30; ++i) points.push_back(50 * draw(1, 1, 1).normalized());
         const ConvexHull h = convex_hull(points, "cloud");
         REQUIRE(h.faces.size() == size_t(4 * h.face_count));
         // A closed triangulated surface of genus 0: F = 2V - 4.

@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "calibration/pose_records.h"
+#include "calibration/records/pose_records.h"
 #include "core/finding.h"
 #include "cube_tosses.h"
-#include "slow_build.h"
+#include "tests/common/slow_build.h"
 
 using namespace mbx;
 using namespace mbx_test;

@@ -10,13 +10,13 @@
 #include <memory>
 #include <sstream>
 
-#include "assembly/host_reader.h"
-#include "calibration/contact_fit.h"
+#include "core/assembly/host_reader.h"
+#include "calibration/simulation/contact_fit.h"
 #include "contact_scenes.h"
 #include "core/progress.h"
-#include "memory_host.h"
+#include "host_adapters/memory/memory_host.h"
 #include "sim/build_model.h"
-#include "translator/translate.h"
+#include "core/translator/translate.h"
 
 namespace mbx_test {
 

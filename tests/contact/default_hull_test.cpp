@@ -14,8 +14,8 @@
 #include <set>
 
 #include "contact_scenes.h"
-#include "export_fixture.h"
-#include "mechatronics/contact_description.h"
+#include "tests/export/export_fixture.h"
+#include "core/mechatronics/contact_description.h"
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
 #include "sim/contact/convex_hull.h"

@@ -8,7 +8,7 @@
 
 #include <random>
 
-#include "export_fixture.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/detection.h"
 

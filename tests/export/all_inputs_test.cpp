@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "export_fixture.h"
-#include "file_text.h"
+#include "tests/common/file_text.h"
 #include "test_inputs.h"
 
 namespace fs = std::filesystem;

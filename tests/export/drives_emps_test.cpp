@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "drives_support.h"
-#include "emps_record.h"
-#include "mechatronics/drive_controller.h"
-#include "mjcf/mjcf_export.h"
+#include "tests/common/emps_record.h"
+#include "core/mechatronics/drive_controller.h"
+#include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
 
 using namespace mbx;

@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "drives_support.h"
-#include "mjcf/mjcf_export.h"
+#include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
-#include "urdf/urdf_layout.h"
+#include "export/urdf/urdf_layout.h"
 
 using namespace mbx;
 

@@ -12,8 +12,8 @@
 #include <cmath>
 
 #include "drives_support.h"
-#include "kinematics/forward_kinematics.h"
-#include "mjcf/mjcf_export.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
 
 using namespace mbx;

@@ -7,9 +7,9 @@
 
 #include <doctest/doctest.h>
 
-#include "mechatronics/drive_file.h"
-#include "mjcf/mjcf_layout.h"
-#include "translator/mechanism.h"
+#include "core/mechatronics/drive_file.h"
+#include "export/mjcf/mjcf_layout.h"
+#include "core/translator/mechanism.h"
 
 namespace xtest {
 

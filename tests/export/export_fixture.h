@@ -7,16 +7,16 @@
 
 #include <doctest/doctest.h>
 
-#include "assembly/host_reader.h"
-#include "assembly/shape_loader.h"
-#include "common/export_model.h"
-#include "export_files.h"
-#include "file_adapter.h"
-#include "kinematics/forward_kinematics.h"
-#include "memory_host.h"
-#include "stub_assembly.h"
+#include "core/assembly/host_reader.h"
+#include "core/assembly/shape_loader.h"
+#include "export/common/export_model.h"
+#include "export/export_files.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "host_adapters/memory/memory_host.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 #include "temp_dir.h"
-#include "translator/translate.h"
+#include "core/translator/translate.h"
 
 namespace xtest {
 

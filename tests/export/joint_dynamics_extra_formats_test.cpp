@@ -11,13 +11,13 @@
 
 #include <cmath>
 
-#include "builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "drives_support.h"
 #include "joint_dynamics_support.h"
-#include "mjcf/mjcf_export.h"
+#include "export/mjcf/mjcf_export.h"
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
-#include "urdf/urdf_layout.h"
+#include "export/urdf/urdf_layout.h"
 
 using namespace mbx;
 

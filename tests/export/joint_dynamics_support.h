@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "drives_support.h"
 
 namespace xtest {

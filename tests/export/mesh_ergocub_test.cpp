@@ -12,7 +12,7 @@
 #include <pugixml.hpp>
 
 #include "export_fixture.h"
-#include "mesh/mesh_export.h"
+#include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 
 using namespace mbx;

@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "export_fixture.h"
-#include "mesh/mesh_export.h"
+#include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
-#include "file_text.h"
+#include "tests/common/file_text.h"
 
 using namespace mbx;
 using xmesh::Box;

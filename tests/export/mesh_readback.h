@@ -14,9 +14,9 @@
 #include <assimp/scene.h>
 #include <doctest/doctest.h>
 
-#include "assembly/shape_loader.h"
+#include "core/assembly/shape_loader.h"
 #include "core/math.h"
-#include "memory_host.h"
+#include "host_adapters/memory/memory_host.h"
 
 namespace xmesh {
 

@@ -3,7 +3,7 @@
 // coordinates, and the world geometry against the host's own data (its
 // units, body poses and mesh poses), so frames and units are both covered.
 #include "export_fixture.h"
-#include "mesh/mesh_export.h"
+#include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 
 using namespace mbx;

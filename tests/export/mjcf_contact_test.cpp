@@ -11,10 +11,10 @@
 #include <fstream>
 #include <string>
 
-#include "builder.h"
-#include "mechatronics/contact_description.h"
-#include "mechatronics/drive_file.h"
-#include "mjcf/mjcf_contact.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "core/mechatronics/contact_description.h"
+#include "core/mechatronics/drive_file.h"
+#include "export/mjcf/mjcf_contact.h"
 #include "mujoco_helpers.h"
 #include "../../sim/contact/parameter_conversion.h"
 

@@ -4,7 +4,7 @@
 // the mechanisms move under gravity and a driving force.
 #include <cmath>
 
-#include "mjcf/mjcf_defaults.h"
+#include "export/mjcf/mjcf_defaults.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
 

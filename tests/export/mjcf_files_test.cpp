@@ -8,7 +8,7 @@
 #include <set>
 #include <sstream>
 
-#include "mjcf/mjcf_export.h"
+#include "export/mjcf/mjcf_export.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "common/names.h"
+#include "export/common/names.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
 

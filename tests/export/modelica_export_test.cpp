@@ -8,10 +8,10 @@
 #include <set>
 #include <sstream>
 
-#include "builder.h"
-#include "modelica/modelica_text.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "export/modelica/modelica_text.h"
 #include "modelica_support.h"
-#include "file_text.h"
+#include "tests/common/file_text.h"
 
 using namespace mbx;
 namespace fs = std::filesystem;

@@ -11,11 +11,11 @@
 #include <map>
 #include <set>
 
-#include "builder.h"
-#include "file_text.h"
-#include "mechatronics/drive.h"
-#include "modelica/mechanics_writer.h"
-#include "modelica/mechatronic_writer.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "tests/common/file_text.h"
+#include "core/mechatronics/drive.h"
+#include "export/modelica/mechanics_writer.h"
+#include "export/modelica/mechatronic_writer.h"
 #include "modelica_support.h"
 
 using namespace mbx;

@@ -2,8 +2,8 @@
 // each exercises something the built-ins do not (spherical joints, a
 // prismatic cut, a free body, odd names) or has an analytic answer (pendulum).
 #pragma once
-#include "builder.h"
-#include "stub_assembly.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 namespace xtest {
 namespace mjcf_assemblies {

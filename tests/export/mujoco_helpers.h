@@ -8,9 +8,9 @@
 #include <memory>
 #include <string>
 
-#include "common/names.h"
+#include "export/common/names.h"
 #include "export_fixture.h"
-#include "mjcf/mjcf_layout.h"
+#include "export/mjcf/mjcf_layout.h"
 
 namespace xtest {
 

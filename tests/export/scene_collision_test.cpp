@@ -8,11 +8,11 @@
 
 #include <assimp/material.h>
 
-#include "builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "export_fixture.h"
-#include "mechatronics/contact_description.h"
-#include "mesh/collision_meshes.h"
-#include "mesh/mesh_export.h"
+#include "core/mechatronics/contact_description.h"
+#include "export/mesh/collision_meshes.h"
+#include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 #include "sim/contact/convex_hull.h"
 

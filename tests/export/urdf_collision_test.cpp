@@ -6,8 +6,8 @@
 // whose vertices, through that origin, are the corners of the part's mesh.
 #include <cmath>
 
-#include "builder.h"
-#include "mechatronics/contact_description.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "core/mechatronics/contact_description.h"
 #include "mesh_readback.h"
 #include "urdf_consumer.h"
 

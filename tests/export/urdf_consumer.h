@@ -10,8 +10,8 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "export_fixture.h"
-#include "urdf/urdf_export.h"
-#include "urdf/urdf_layout.h"
+#include "export/urdf/urdf_export.h"
+#include "export/urdf/urdf_layout.h"
 
 namespace urdf_test {
 

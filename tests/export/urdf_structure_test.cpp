@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "urdf_consumer.h"
 
 using namespace urdf_test;

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <string>
 
-#include "assemblies/builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 

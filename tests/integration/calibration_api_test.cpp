@@ -15,7 +15,7 @@
 #include <memory>
 #include <string>
 
-#include "file_adapter.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "assemblies/builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 

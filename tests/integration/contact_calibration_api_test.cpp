@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "assemblies/builder.h"
+#include "apps/stub_host/assemblies/builder.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"

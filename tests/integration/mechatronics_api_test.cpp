@@ -22,7 +22,8 @@
 #include <tuple>
 #include <vector>
 
-#include "file_adapter.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
+#include "support/c_enum_call.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
@@ -986,12 +987,9 @@ TEST_CASE("mechatronics api: motions are checked, and a refused one leaves the p
 
     // An interpolation outside the enum: an error, not undefined behaviour.
     // A C host may pass any int there; C++ cannot hold 9 in the enum without
-    // UB of its own, so the call goes through the C view of the signature
-    // (same ABI: a C enum argument is passed as an int).
-    using SetMotionFromC = mbx_status (*)(mbx_context*, mbx_mechatronics*, const char*, int32_t,
-                                          const mbx_motion_point*, uint32_t, int);
-    const auto set_motion_from_c = reinterpret_cast<SetMotionFromC>(api().mechatronics_set_motion);
-    CHECK(set_motion_from_c(ctx, mt.get(), ids[0].c_str(), -1, good, 2, 9) == MBX_ERROR_INVALID_ARGUMENT);
+    // UB of its own, so the call is made from C (support/c_enum_call.c).
+    CHECK(mbx_test_set_motion_with_raw_interpolation(api().mechatronics_set_motion, ctx, mt.get(), ids[0].c_str(), -1,
+                                                     good, 2, 9) == MBX_ERROR_INVALID_ARGUMENT);
     CHECK_MESSAGE(contains(last_error(ctx).message, "interpolation 9"), last_error(ctx).message);
     CHECK(last_error(ctx).subject_id == ids[0]);
 

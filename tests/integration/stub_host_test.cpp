@@ -8,7 +8,7 @@
 #include <cstring>
 #include <vector>
 
-#include "assemblies/stub_assembly.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 namespace {
 

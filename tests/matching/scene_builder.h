@@ -6,8 +6,8 @@
 
 #include <Eigen/Geometry>
 
-#include "shape_matching.h"
-#include "vrml_scene.h"
+#include "host_adapters/common/shape_matching.h"
+#include "host_adapters/common/vrml_scene.h"
 
 namespace matching_test {
 

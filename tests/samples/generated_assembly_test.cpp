@@ -9,8 +9,8 @@
 
 #include <doctest/doctest.h>
 
-#include "file_adapter.h"
-#include "generate_pmxml.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
+#include "samples/tools/generate_pmxml.h"
 #include "temp_dir.h"
 #include "translation.h"
 

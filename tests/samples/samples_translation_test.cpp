@@ -5,7 +5,7 @@
 
 #include <doctest/doctest.h>
 
-#include "file_adapter.h"
+#include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "sample_expectations.h"
 #include "temp_dir.h"
 #include "translation.h"

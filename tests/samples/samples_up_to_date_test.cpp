@@ -7,7 +7,7 @@
 
 #include <doctest/doctest.h>
 
-#include "samples.h"
+#include "samples/tools/samples.h"
 #include "temp_dir.h"
 
 namespace fs = std::filesystem;

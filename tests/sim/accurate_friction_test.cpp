@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "export_fixture.h"
-#include "mujoco_assemblies.h"
+#include "tests/export/export_fixture.h"
+#include "tests/export/mujoco_assemblies.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 

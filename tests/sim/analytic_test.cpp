@@ -7,7 +7,7 @@
 
 #include "sim/build_model.h"
 #include "sim/simulation.h"
-#include "test_inputs.h"
+#include "tests/export/test_inputs.h"
 
 using namespace mbx;
 

@@ -8,7 +8,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "sim_cut_check.h"
-#include "test_inputs.h"
+#include "tests/export/test_inputs.h"
 
 using namespace mbx;
 

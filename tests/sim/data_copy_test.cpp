@@ -4,7 +4,7 @@
 // never initialised.)
 #include <doctest/doctest.h>
 
-#include "export_fixture.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/integrator.h"
 #include "sim/simulation.h"

@@ -9,9 +9,9 @@
 #include <cmath>
 #include <fstream>
 
-#include "drives_support.h"
-#include "emps_record.h"
-#include "export_fixture.h"
+#include "tests/export/drives_support.h"
+#include "tests/common/emps_record.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/integrator.h"
 

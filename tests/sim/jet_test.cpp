@@ -7,9 +7,9 @@
 
 #include <doctest/doctest.h>
 
-#include "export_fixture.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
-#include "sim/forward_dynamics.h"
+#include "sim/forward_dynamics.hxx"  // a Jet of its own size: the definitions
 #include "sim/joint_forces.h"
 
 using namespace mbx;

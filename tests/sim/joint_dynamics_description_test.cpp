@@ -6,10 +6,10 @@
 
 #include <cmath>
 
-#include "builder.h"
-#include "drives_support.h"
-#include "export_fixture.h"
-#include "joint_dynamics_support.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "tests/export/drives_support.h"
+#include "tests/export/export_fixture.h"
+#include "tests/export/joint_dynamics_support.h"
 #include "sim/build_model.h"
 #include "sim/data.h"
 #include "sim/integrator.h"

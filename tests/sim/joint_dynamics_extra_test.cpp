@@ -10,9 +10,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "builder.h"
-#include "drives_support.h"
-#include "export_fixture.h"
+#include "apps/stub_host/assemblies/builder.h"
+#include "tests/export/drives_support.h"
+#include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 #include "sim/data.h"

@@ -6,7 +6,7 @@
 #include <chrono>
 
 #include "sim/dynamics.h"
-#include "test_inputs.h"
+#include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
 
 using namespace mbx;

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "sim/simulation.h"
-#include "test_inputs.h"
+#include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
 
 using namespace mbx;

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <vector>
 
-#include "kinematics/placement.h"
+#include "core/kinematics/placement.h"
 #include "sim/dynamics.h"
-#include "translator/mechanism.h"
+#include "core/translator/mechanism.h"
 
 namespace simtest {
 

@@ -6,7 +6,7 @@
 #pragma once
 #include <random>
 
-#include "mujoco_helpers.h"
+#include "tests/export/mujoco_helpers.h"
 #include "sim/build_model.h"
 #include "sim/data.h"
 

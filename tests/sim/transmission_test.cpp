@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "export_fixture.h"
-#include "joint_dynamics_support.h"
-#include "mujoco_assemblies.h"
+#include "tests/export/export_fixture.h"
+#include "tests/export/joint_dynamics_support.h"
+#include "tests/export/mujoco_assemblies.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 #include "sim/resolved_joint_dynamics.h"

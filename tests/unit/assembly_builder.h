@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "assembly/assembly.h"
+#include "core/assembly/assembly.h"
 #include "core/math.h"
 
 namespace test {

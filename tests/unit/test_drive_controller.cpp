@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "mechatronics/drive_controller.h"
+#include "core/mechatronics/drive_controller.h"
 
 using namespace mbx;
 

@@ -9,11 +9,11 @@
 
 #include "assembly_builder.h"
 #include "core/progress.h"
-#include "mechatronics/drive_file.h"
-#include "report/report.h"
+#include "core/mechatronics/drive_file.h"
+#include "core/report/report.h"
 
 #include <nlohmann/json.hpp>
-#include "translator/translate.h"
+#include "core/translator/translate.h"
 
 using namespace mbx;
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "assembly/host_reader.h"
-#include "stub_assembly.h"
+#include "core/assembly/host_reader.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 using namespace mbx;
 

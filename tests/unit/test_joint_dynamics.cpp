@@ -10,8 +10,8 @@
 
 #include "assembly_builder.h"
 #include "core/progress.h"
-#include "mechatronics/drive_file.h"
-#include "translator/translate.h"
+#include "core/mechatronics/drive_file.h"
+#include "core/translator/translate.h"
 
 using namespace mbx;
 

@@ -1,8 +1,8 @@
 #include <doctest/doctest.h>
 
-#include "assembly/shape_loader.h"
+#include "core/assembly/shape_loader.h"
 #include "assembly_builder.h"
-#include "translator/translate.h"
+#include "core/translator/translate.h"
 
 using namespace mbx;
 

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <string>
 
-#include "assembly/host_reader.h"
-#include "stub_assembly.h"
-#include "translator/translate.h"
+#include "core/assembly/host_reader.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
+#include "core/translator/translate.h"
 
 using namespace mbx;
 

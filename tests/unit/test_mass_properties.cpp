@@ -1,6 +1,6 @@
 #include <doctest/doctest.h>
 
-#include "translator/mass_properties.h"
+#include "core/translator/mass_properties.h"
 #include "assembly_builder.h"
 
 using namespace mbx;

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "geometry/mesh_properties.h"
+#include "core/geometry/mesh_properties.h"
 
 using namespace mbx;
 

@@ -7,9 +7,9 @@
 
 #include <Eigen/Dense>
 
-#include "mobility/mobility.h"
-#include "mobility/rank.h"
-#include "mobility/twist.h"
+#include "core/mobility/mobility.h"
+#include "core/mobility/rank.h"
+#include "core/mobility/twist.h"
 
 using namespace mbx;
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "mechatronics/motion_profile.h"
+#include "core/mechatronics/motion_profile.h"
 
 using namespace mbx;
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include "mechatronics/drive_quantities.h"
-#include "mechatronics/object_library.h"
+#include "core/mechatronics/drive_quantities.h"
+#include "core/mechatronics/object_library.h"
 
 using namespace mbx;
 

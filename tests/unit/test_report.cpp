@@ -10,7 +10,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "report/report.h"
+#include "core/report/report.h"
 #include "../common/file_text.h"
 
 using nlohmann::json;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/finding.h"
-#include "report/atomic_file.h"
+#include "core/report/atomic_file.h"
 #include "../common/file_text.h"
 
 namespace fs = std::filesystem;

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "report/json_writer.h"
+#include "core/report/json_writer.h"
 
 using mbx::JsonWriter;
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "assembly_builder.h"
-#include "translator/translate.h"
+#include "core/translator/translate.h"
 
 using namespace mbx;
 

@@ -11,9 +11,9 @@
 #include <fstream>
 
 #include "core/finding.h"
-#include "export_fixture.h"
-#include "mechatronics/contact_description.h"
-#include "mesh/mesh_export.h"
+#include "tests/export/export_fixture.h"
+#include "core/mechatronics/contact_description.h"
+#include "export/mesh/mesh_export.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "view/view_page.h"

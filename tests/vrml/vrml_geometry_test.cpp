@@ -4,7 +4,7 @@
 
 #include <doctest/doctest.h>
 
-#include "vrml_primitives.h"
+#include "host_adapters/pmxml_vrml/vrml_primitives.h"
 #include "vrml_test_support.h"
 
 using mbx_files::VrmlMesh;

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "vrml_reader.h"
-#include "vrml_scene.h"
+#include "host_adapters/pmxml_vrml/vrml_reader.h"
+#include "host_adapters/common/vrml_scene.h"
 
 namespace vrml_test {
 

@@ -2,7 +2,7 @@
 
 #include <doctest/doctest.h>
 
-#include "loader/plugin_loader.h"
+#include "apps/stub_host/loader/plugin_loader.h"
 
 namespace itest {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "assemblies/stub_assembly.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 namespace itest {
 

@@ -9,7 +9,7 @@
 
 #include <mbx/mbx.h>
 
-#include "assemblies/stub_assembly.h"
+#include "apps/stub_host/assemblies/stub_assembly.h"
 
 namespace itest {
 

@@ -1,12 +1,15 @@
 /*
- * mbx_files: the PMXML + VRML file host as a C library (libmbx_files.so).
+ * mbx_files: the file hosts as a C library (libmbx_files.so).
  *
  * libmbx only translates what an mbx_host serves. A CAD plugin serves its own
- * assembly; a script or a test that starts from files (a SimMechanics
- * first-generation XML export, the mesh files it names, a VRML97 scene) needs
- * the same reader the `mbx` CLI uses. This library is that reader behind a C
- * interface, so C hosts and the Python package (over ctypes) can use it.
- * It does not link libmbx: it only fills an mbx_host table.
+ * assembly; a script or a test that starts from files (a CAD export with the
+ * mesh files or scene it names) needs the same readers the `mbx` CLI uses.
+ * This library is those readers behind a C interface, so C hosts and the
+ * Python package (over ctypes) can use them. The format of an input is told
+ * from its root element or extension, as `mbx formats` lists: today
+ * SimMechanics first-generation Physical Modeling XML (*.xml) with its mesh
+ * files or a VRML97 scene. It does not link libmbx: it only fills an mbx_host
+ * table.
  *
  *   mbx_file_host *files = NULL;
  *   mbx_files_error err = { sizeof err };
@@ -31,7 +34,7 @@ typedef struct mbx_file_host mbx_file_host;
 typedef struct mbx_files_options {
     uint32_t struct_size;
     const char *shapes;            /* VRML97 scene matched to the bodies by pose; NULL or "": none */
-    const char *const *mesh_dirs;  /* searched for geometryFileName after the XML's folder */
+    const char *const *mesh_dirs;  /* searched for the mesh files an input names after its own folder */
     uint32_t mesh_dir_count;
 } mbx_files_options;
 
@@ -39,16 +42,16 @@ typedef struct mbx_files_options {
  * mbx_files_open call on this thread. */
 typedef struct mbx_files_error {
     uint32_t struct_size;
-    const char *file;    /* the XML or VRML file at fault */
+    const char *file;    /* the input, scene or mesh file at fault */
     int32_t line;        /* 1-based, 0 when the file as a whole is at fault */
     const char *message; /* without the file and line */
 } mbx_files_error;
 
-/* Reads the XML (and the VRML scene) and checks the mesh files it names;
+/* Reads the input (and the VRML scene) and checks the mesh files it names;
  * meshes load lazily, when the SDK first asks for a body's shapes. Returns
  * 0 and *out on success; non-zero and fills *error (may be NULL) for an
  * unreadable or unusable file. `options` may be NULL. */
-MBX_API int mbx_files_open(const char *xml_path, const mbx_files_options *options, mbx_file_host **out,
+MBX_API int mbx_files_open(const char *path, const mbx_files_options *options, mbx_file_host **out,
                            mbx_files_error *error);
 /* The host table; valid until mbx_files_close. A mechanism translated from
  * it must be destroyed, or must release the host, before the close. */

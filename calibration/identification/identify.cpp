@@ -1,0 +1,415 @@
+#include "calibration/identification/identify.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/finding.h"
+
+namespace mbx::calibration {
+
+namespace {
+
+struct Fit {
+    Eigen::VectorXd theta;
+    Eigen::MatrixXd covariance;
+    double sse_fit = 0, sse_validation = 0;
+    bool ok = false;
+};
+
+// Least squares of y on X (column-pivoted QR: collinear columns give a
+// rank-deficient fit, which is reported as not ok), residual variance from
+// the fit rows, covariance sigma^2 (X^T X)^-1.
+Fit least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Eigen::MatrixXd& Xv,
+                  const Eigen::VectorXd& yv) {
+    Fit f;
+    if (X.cols() == 0) {
+        f.theta.resize(0);
+        f.sse_fit = y.squaredNorm(), f.sse_validation = yv.squaredNorm(), f.ok = true;
+        return f;
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+    qr.setThreshold(1e-10);
+    if (qr.rank() < X.cols()) return f;
+    f.theta = qr.solve(y);
+    f.sse_fit = (y - X * f.theta).squaredNorm();
+    f.sse_validation = (yv - Xv * f.theta).squaredNorm();
+    const double dof = std::max(1.0, double(X.rows() - X.cols()));
+    const Eigen::MatrixXd XtX = X.transpose() * X;
+    f.covariance = (f.sse_fit / dof) * XtX.ldlt().solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
+    f.ok = f.theta.allFinite();
+    return f;
+}
+
+double percent(double sse, const Eigen::VectorXd& measured) {
+    const double n = measured.squaredNorm();
+    return n > 0 ? 100 * std::sqrt(sse / n) : 0;
+}
+
+double bic(double sse, Eigen::Index n, Eigen::Index k) {
+    return double(n) * std::log(std::max(sse, 1e-300) / double(n)) + double(k) * std::log(double(n));
+}
+
+std::string subject_text(const sim::Model& m, const Candidate& c) {
+    if (c.body >= 0) return "body '" + m.bodies[size_t(c.body)].name + "'";
+    return "joint '" + m.joints[size_t(c.joint)].name + "'";
+}
+
+double correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    const double na = a.norm(), nb = b.norm();
+    return na > 0 && nb > 0 ? a.dot(b) / (na * nb) : 0;
+}
+
+}  // namespace
+
+Identification identify(const sim::Model& m, const RegressionRows& fit, const RegressionRows& validation,
+                        const IdentifyOptions& options) {
+    Identification out;
+    const Eigen::VectorXd y = fit.y(), yv = validation.y();
+    const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();
+    out.baseline_fit_error = percent(y.squaredNorm(), meas);
+    out.baseline_validation_error = percent(yv.squaredNorm(), meas_v);
+
+    std::vector<Candidate> candidates = catalogue(m, fit);
+    std::vector<Eigen::MatrixXd> cols, cols_v;
+    for (const Candidate& c : candidates) cols.push_back(c.columns(fit)), cols_v.push_back(c.columns(validation));
+
+    std::vector<size_t> chosen;
+    Eigen::MatrixXd X(y.size(), 0), Xv(yv.size(), 0);
+    Fit current = least_squares(X, y, Xv, yv);
+    std::vector<size_t> refused;  // candidates the data could not tell from another
+    auto taken = [&](const Candidate& c) {
+        for (size_t k : refused)
+            if (candidates[k].cause == c.cause && candidates[k].joint == c.joint && candidates[k].body == c.body)
+                return true;
+        for (size_t k : chosen) {
+            const Candidate& o = candidates[k];
+            // One law per cause and subject (a single Stribeck speed per joint).
+            if (o.cause == c.cause && o.joint == c.joint && o.body == c.body) return true;
+        }
+        return false;
+    };
+    for (int round = 0; round < options.max_causes; ++round) {
+        std::vector<double> gain_of(candidates.size(), -INFINITY);
+        int best = -1;
+        Fit best_fit;
+        double best_gain = 0;
+        // One Stribeck grid speed per joint goes on to be refined: the one
+        // that fits best (the refinement spans the grid's spacing).
+        std::vector<char> stribeck_best(candidates.size(), 0);
+        {
+            std::vector<double> best_sse(size_t(m.nv), INFINITY);
+            std::vector<int> best_at(size_t(m.nv), -1);
+            for (size_t k = 0; k < candidates.size(); ++k) {
+                const Candidate& c = candidates[k];
+                if (c.cause != "stribeck_friction" || taken(c)) continue;
+                Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
+                X2 << X, cols[k];
+                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0));
+                if (f.ok && f.sse_fit < best_sse[size_t(c.dof)]) best_sse[size_t(c.dof)] = f.sse_fit, best_at[size_t(c.dof)] = int(k);
+            }
+            for (int k : best_at)
+                if (k >= 0) stribeck_best[size_t(k)] = 1;
+        }
+        // A candidate whose columns the named causes already span (to the
+        // same-column correlation) adds nothing but a fit to the noise, with
+        // huge opposite coefficients: a centre of mass moved across the last
+        // link after that joint's sensor offset, say.
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> named_qr;
+        if (X.cols() > 0) named_qr.compute(X);
+        const double least_new = std::sqrt(std::max(0.0, 1 - options.same_column_correlation * options.same_column_correlation));
+        // (Any combination of its columns: an orthonormal basis of them,
+        // less what the named columns explain, has a small singular value.)
+        auto spanned = [&](const Eigen::MatrixXd& ck) {
+            if (X.cols() == 0 || ck.cols() == 0) return false;
+            const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ck);
+            const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(ck.rows(), ck.cols());
+            const Eigen::MatrixXd left = basis - X * named_qr.solve(basis);
+            const Eigen::JacobiSVD<Eigen::MatrixXd> svd(left);
+            return svd.singularValues().minCoeff() < least_new;
+        };
+        for (size_t k = 0; k < candidates.size(); ++k) {
+            if (taken(candidates[k])) continue;
+            if (candidates[k].cause == "stribeck_friction" && !stribeck_best[k]) continue;
+            if (spanned(cols[k])) continue;
+            auto fit_with = [&](const Eigen::MatrixXd& ck, const Eigen::MatrixXd& cvk) {
+                Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
+                X2 << X, ck;
+                Xv2 << Xv, cvk;
+                return least_squares(X2, y, Xv2, yv);
+            };
+            Fit f = fit_with(cols[k], cols_v[k]);
+            if (!f.ok) continue;
+            // Nonlinear settings, refined on the fit records along with the causes named so far.
+            if (candidates[k].cause == "delay") {
+                // The exact lag: the column at setting d has the delay as its
+                // coefficient, so d = coefficient is a fixed point (a few
+                // steps from the first-order estimate; the second-order part
+                // of a lag would otherwise pass for an actuator gain).
+                Candidate c = candidates[k];
+                for (int it = 0; it < 8; ++it) {
+                    const double d = f.theta[X.cols()];
+                    if (!(d > 0) || d > 0.5) break;
+                    const bool settled = c.scale > 0 && std::abs(d - c.scale) < 1e-4 * c.scale;
+                    c.scale = d;
+                    const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                    const Fit g = fit_with(ck, cvk);
+                    if (!g.ok) break;
+                    candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+                    if (settled) break;
+                }
+            } else if (candidates[k].cause == "sensor_offset") {
+                // Its column's second-order part at the offset found: a fixed point, as for a shift.
+                Candidate c = candidates[k];
+                for (int it = 0; it < 8; ++it) {
+                    const double o = f.theta[X.cols()];
+                    const double before = c.offset_anchor;
+                    c.offset_anchor = o;
+                    const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                    const Fit g = fit_with(ck, cvk);
+                    if (!g.ok) break;
+                    candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+                    if (std::abs(o - before) <= 1e-6 * std::abs(o)) break;
+                }
+            } else if (candidates[k].shifts_com()) {
+                // The shift's columns through the shift found: a fixed point
+                // a few steps from the first-order estimate (the quadratic
+                // part of a shift would otherwise pass for an armature).
+                Candidate c = candidates[k];
+                const double size = largest_com_shift(c.body_inertia);
+                for (int it = 0; it < 8; ++it) {
+                    const Eigen::VectorXd th = f.theta.segment(X.cols(), cols[k].cols());
+                    if (!(th.norm() <= size)) break;  // no shift of this body: another cause's signature
+                    const Eigen::Vector3d before = c.com_anchor;
+                    c.anchor_com_shift(th);
+                    const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                    const Fit g = fit_with(ck, cvk);
+                    if (!g.ok) break;
+                    candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+                    if ((c.com_anchor - before).norm() <= 1e-6 * c.com_anchor.norm()) break;
+                }
+            } else if (candidates[k].cause == "stribeck_friction") {
+                // The Stribeck speed and the sign's smoothing speed (the
+                // breadth of the law's step at zero speed, which trades
+                // against its amplitude): golden-section searches on the fit
+                // error in log speed, alternated, within a factor of the
+                // grid's spacing and of the default smoothing.
+                Candidate c = candidates[k];
+                const double s0 = c.scale, v0 = sign_speed(fit, c.dof);
+                c.smoothing = v0;
+                auto sse = [&](double* setting, double log_speed) {
+                    *setting = std::exp(log_speed);
+                    // A Stribeck dip narrower than a few smoothing speeds is
+                    // the Coulomb law's shape at reversals, not a dip.
+                    if (c.smoothing > c.scale / 3) return double(INFINITY);
+                    const Fit g = fit_with(c.columns(fit), Eigen::MatrixXd::Zero(Xv.rows(), 1));
+                    return g.ok ? g.sse_fit : INFINITY;
+                };
+                auto golden = [&](double* setting, double lo, double hi) {
+                    const double phi = 0.5 * (std::sqrt(5.0) - 1);
+                    double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo), f1 = sse(setting, x1),
+                           f2 = sse(setting, x2);
+                    for (int it = 0; it < 12; ++it) {
+                        if (f1 < f2)
+                            hi = x2, x2 = x1, f2 = f1, x1 = hi - phi * (hi - lo), f1 = sse(setting, x1);
+                        else
+                            lo = x1, x1 = x2, f1 = f2, x2 = lo + phi * (hi - lo), f2 = sse(setting, x2);
+                    }
+                    *setting = std::exp(0.5 * (lo + hi));
+                };
+                // (Speeds within the grid's span: beyond its top the dip spans
+                // the motion and passes for Coulomb and viscous friction.)
+                const double top = 100 * 0.5 * v0, bottom = 100 * 0.02 * v0;
+                for (int pass = 0; pass < 2; ++pass) {
+                    golden(&c.scale, std::log(std::max(bottom, s0 / 2.5)), std::log(std::min(top, s0 * 2.5)));
+                    golden(&c.smoothing, std::log(v0 / 4), std::log(v0 * 4));
+                }
+                const Eigen::MatrixXd ck = c.columns(fit), cvk = c.columns(validation);
+                const Fit g = fit_with(ck, cvk);
+                if (g.ok && g.sse_fit < f.sse_fit) candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
+            }
+            const Candidate& c = candidates[k];
+            const Eigen::Index p0 = X.cols(), np = cols[k].cols();
+            const Eigen::VectorXd th = f.theta.segment(p0, np);
+            bool significant = true;
+            for (Eigen::Index i = 0; i < np; ++i) {
+                const double se = std::sqrt(std::max(0.0, f.covariance(p0 + i, p0 + i)));
+                significant = significant && std::abs(th[i]) > options.min_t_ratio * se;
+            }
+            const double gain = current.sse_validation - f.sse_validation;
+            if (round == 0) {
+                std::ostringstream s;
+                s << c.cause << " on " << subject_text(m, c) << ": validation "
+                  << percent(f.sse_validation, meas_v) << " %";
+                out.considered.push_back(s.str());
+            }
+            if (!significant || !c.physical(th)) continue;
+            // Nor may it make a cause named before unphysical in the joint
+            // fit (a gain deficit pushed to all of the effort by a shift that
+            // takes over its part).
+            bool named_physical = true;
+            for (size_t i = 0, at = 0; i < chosen.size(); ++i) {
+                const Eigen::Index n = cols[chosen[i]].cols();
+                named_physical = named_physical && candidates[chosen[i]].physical(f.theta.segment(Eigen::Index(at), n));
+                at += size_t(n);
+            }
+            if (!named_physical) continue;
+            // Nor one whose parameters the joint fit cannot tell from a named
+            // cause's (a loop's coupler shifted against the crank's gain):
+            // what it adds is the noise the pair can fit, not evidence.
+            bool apart = true;
+            for (Eigen::Index i = p0; i < p0 + np && apart; ++i)
+                for (Eigen::Index j = 0; j < p0; ++j) {
+                    const double r = f.covariance(i, j) / std::sqrt(f.covariance(i, i) * f.covariance(j, j));
+                    if (std::abs(r) > options.max_rival_correlation) apart = false;
+                }
+            if (!apart) continue;
+            gain_of[k] = gain;
+            if (gain > best_gain) best = int(k), best_gain = gain, best_fit = f;
+        }
+        if (best < 0) break;
+        // Named only when validation, not the fit, says it helps, by more
+        // than a small share and beyond what noise and the added parameters explain.
+        const double err_now = percent(current.sse_validation, meas_v);
+        const double err_new = percent(best_fit.sse_validation, meas_v);
+        const Eigen::Index nv = yv.size();
+        const bool relative = err_new < (1 - options.min_relative_gain) * err_now;
+        // (A Stribeck law's two refined speeds count as parameters too.)
+        const Eigen::Index settings = candidates[size_t(best)].cause == "stribeck_friction" ? 2 : 0;
+        const bool evidence = bic(best_fit.sse_validation, nv, X.cols() + cols[size_t(best)].cols() + settings) <
+                              bic(current.sse_validation, nv, X.cols()) - options.bic_margin;
+        if (!relative || !evidence) break;
+        // A rival of another cause or subject that explains about as much
+        // (validation does not prefer the best one beyond the BIC margin)
+        // with a column nearly the same as the best one's (once the named
+        // causes are accounted for): the data cannot tell the two apart.
+        // Exactly the same column (a crank turning about the actuated axis:
+        // its inertia and the armature) is one base parameter, named once
+        // as the first in the catalogue with a warning; merely close ones
+        // are not named at all.
+        {
+            Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qx;
+            if (X.cols() > 0) qx.compute(X);  // (Eigen's QR of no columns faults)
+            auto unexplained = [&](const Eigen::VectorXd& col) -> Eigen::VectorXd {
+                if (X.cols() == 0) return col;
+                return col - X * qx.solve(col);
+            };
+            const Eigen::VectorXd rb = unexplained(cols[size_t(best)].col(0));
+            const Candidate& cb = candidates[size_t(best)];
+            int rival = -1, close = -1;
+            double rival_r = 0, close_r = 0;
+            for (size_t k = 0; k < candidates.size(); ++k) {
+                const Candidate& o = candidates[k];
+                if (int(k) == best || !(gain_of[k] > 0.5 * best_gain) || o.cause == cb.cause) continue;
+                const double r = std::abs(correlation(rb, unexplained(cols[k].col(0))));
+                if (r > options.ambiguous_correlation && r > close_r &&
+                    percent(current.sse_validation - gain_of[k], meas_v) <
+                        options.ambiguous_error_ratio * percent(current.sse_validation - best_gain, meas_v))
+                    close = int(k), close_r = r;
+                // Told apart when validation prefers the best one strongly (the BIC margin).
+                const double sse_rival = current.sse_validation - gain_of[k];
+                if (bic(sse_rival, nv, 1) - bic(best_fit.sse_validation, nv, 1) > options.bic_margin) continue;
+                if (r > options.max_rival_correlation && r > rival_r) rival = int(k), rival_r = r;
+            }
+            // Validation prefers the best one, but not by much, and another
+            // cause's column is nearly the same: named, with a warning that
+            // these records can hardly tell the two apart (a mass that
+            // carries nearly all the inertia against an actuator gain, say).
+            if (rival < 0 && close >= 0) {
+                const Candidate& o = candidates[size_t(close)];
+                std::ostringstream s;
+                s.precision(4);
+                s << cb.cause << " on " << subject_text(m, cb) << " is named, but " << o.cause << " on "
+                  << subject_text(m, o) << " explains nearly as much with a nearly equal column (r = " << close_r
+                  << ", validation " << percent(current.sse_validation - best_gain, meas_v) << " % against "
+                  << percent(current.sse_validation - gain_of[size_t(close)], meas_v)
+                  << " %): these records hardly tell them apart; a record with another load or motion would";
+                out.warnings.push_back(s.str());
+            }
+            if (rival >= 0) {
+                const Candidate& o = candidates[size_t(rival)];
+                std::ostringstream s;
+                s.precision(5);
+                s << cb.cause << " on " << subject_text(m, cb) << " and " << o.cause << " on " << subject_text(m, o)
+                  << " have the same signature in these data (r = " << rival_r << ", validation "
+                  << percent(current.sse_validation - best_gain, meas_v) << " % and "
+                  << percent(current.sse_validation - gain_of[size_t(rival)], meas_v) << " %): ";
+                if (rival_r > options.same_column_correlation) {
+                    const int first = std::min(best, rival);
+                    if (first != best) {
+                        // Same column: the same fit with the catalogue's first.
+                        best = first;
+                        Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()),
+                            Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
+                        X2 << X, cols[size_t(best)];
+                        Xv2 << Xv, cols_v[size_t(best)];
+                        best_fit = least_squares(X2, y, Xv2, yv);
+                        if (!best_fit.ok) break;
+                    }
+                    s << "one parameter, named as " << candidates[size_t(best)].cause
+                      << " (the catalogue's simpler cause)";
+                    out.warnings.push_back(s.str());
+                } else {
+                    s << "neither is named";
+                    out.warnings.push_back(s.str());
+                    refused.push_back(size_t(best));
+                    refused.push_back(size_t(rival));
+                    continue;
+                }
+            }
+        }
+        const Candidate& c = candidates[size_t(best)];
+        SelectedCause sc;
+        sc.candidate = c;
+        {
+            // The signature: how the residual before this step lines up with the cause's column.
+            const Eigen::VectorXd residual = y - X * current.theta;
+            std::ostringstream s;
+            s.precision(3);
+            s << "residual correlates with the " << c.cause << " column on " << subject_text(m, c)
+              << " (r = " << correlation(residual, cols[size_t(best)].col(0)) << ")";
+            sc.evidence = s.str();
+        }
+        chosen.push_back(size_t(best));
+        Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()), Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
+        X2 << X, cols[size_t(best)];
+        Xv2 << Xv, cols_v[size_t(best)];
+        X = std::move(X2), Xv = std::move(Xv2);
+        current = best_fit;
+        sc.fit_error = percent(current.sse_fit, meas);
+        // (the fit that is named: the catalogue's first of two alike may have replaced the best)
+        sc.validation_error = percent(best_fit.sse_validation, meas_v);
+        sc.validation_gain = err_now - sc.validation_error;
+        out.causes.push_back(std::move(sc));
+    }
+    // Parameters from the final joint fit, with standard errors; a warning
+    // where two of them cannot be told apart.
+    Eigen::Index at = 0;
+    std::vector<std::string> names;
+    for (SelectedCause& sc : out.causes) {
+        for (const std::string& p : sc.candidate.parameters) {
+            Estimate e;
+            e.name = p;
+            e.value = current.theta[at];
+            e.std_error = std::sqrt(std::max(0.0, current.covariance(at, at)));
+            sc.parameters.push_back(e);
+            names.push_back(sc.candidate.cause + "." + p + " on " + subject_text(m, sc.candidate));
+            ++at;
+        }
+    }
+    for (Eigen::Index i = 0; i < at; ++i)
+        for (Eigen::Index k = i + 1; k < at; ++k) {
+            const double r = current.covariance(i, k) / std::sqrt(current.covariance(i, i) * current.covariance(k, k));
+            if (std::abs(r) > 0.95) {
+                std::ostringstream s;
+                s.precision(3);
+                s << names[size_t(i)] << " and " << names[size_t(k)] << " are correlated (r = " << r
+                  << "): the data can hardly tell them apart";
+                out.warnings.push_back(s.str());
+            }
+        }
+    out.final_fit_error = percent(current.sse_fit, meas);
+    out.final_validation_error = percent(current.sse_validation, meas_v);
+    return out;
+}
+
+}  // namespace mbx::calibration

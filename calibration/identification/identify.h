@@ -1,0 +1,41 @@
+// Inverse-dynamics identification (IDIM-LS) with forward selection of
+// causes: the residual of calibration/regression_rows.h is regressed on the
+// columns of candidate causes from the catalogue (calibration/causes.h).
+// Causes enter one at a time, largest validation gain first, and only while
+// the gain on the validation records exceeds what noise explains. A delay's
+// lag and a Stribeck law's speeds are refined on the fit records before the
+// candidate is judged; two causes the data cannot tell apart are a warning
+// (docs/calibration.md, "Forward selection").
+#pragma once
+#include "calibration/identification/causes.h"
+#include "calibration/identification/regression_rows.h"
+
+namespace mbx::calibration {
+
+struct Estimate {
+    std::string name;
+    double value = 0, std_error = 0;
+};
+
+// One named cause with what the selection saw.
+struct SelectedCause {
+    Candidate candidate;
+    std::vector<Estimate> parameters;  // from the final joint fit of every named cause
+    std::string evidence;              // the signature on the residual, in words and numbers
+    double fit_error = 0, validation_error = 0;  // % effort error after this step (inverse dynamics)
+    double validation_gain = 0;                  // percentage points the step removed
+};
+
+struct Identification {
+    double baseline_fit_error = 0, baseline_validation_error = 0;  // %
+    double final_fit_error = 0, final_validation_error = 0;        // %
+    double noise_level = 0;  // % of the effort that the filter removed (what no model explains)
+    std::vector<SelectedCause> causes;
+    std::vector<std::string> warnings;
+    std::vector<std::string> considered;  // candidates tried in the first round, with their gains
+};
+
+Identification identify(const sim::Model& m, const RegressionRows& fit, const RegressionRows& validation,
+                        const IdentifyOptions& options);
+
+}  // namespace mbx::calibration

@@ -1,0 +1,255 @@
+#include "calibration/identification/regression_rows.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "calibration/identification/closed_chain.h"
+#include "calibration/records/filters.h"
+#include "core/finding.h"
+#include "sim/dynamics.h"
+#include "sim/joint_forces.h"
+#include "sim/loop_closure.h"
+
+namespace mbx::calibration {
+
+Eigen::VectorXd RegressionRows::y() const {
+    const Eigen::Index n = Eigen::Index(actuated.size());
+    Eigen::VectorXd r(samples * n);
+    for (int s = 0; s < samples; ++s)
+        for (Eigen::Index a = 0; a < n; ++a) r[s * n + a] = weight[size_t(a)] * (effort(s, a) - model_effort(s, a));
+    return r;
+}
+
+Eigen::VectorXd RegressionRows::measured() const {
+    const Eigen::Index n = Eigen::Index(actuated.size());
+    Eigen::VectorXd r(samples * n);
+    for (int s = 0; s < samples; ++s)
+        for (Eigen::Index a = 0; a < n; ++a) r[s * n + a] = weight[size_t(a)] * effort(s, a);
+    return r;
+}
+
+Eigen::Matrix<double, kInertialParameters, 1> inertial_parameters(const sim::Inertia<double>& inertia) {
+    Eigen::Matrix<double, kInertialParameters, 1> p;
+    const Eigen::Matrix3d& I = inertia.I;
+    p << inertia.mass, inertia.h, I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2);
+    return p;
+}
+
+sim::Inertia<double> inertia_of_parameters(const Eigen::Matrix<double, kInertialParameters, 1>& p) {
+    sim::Inertia<double> r;
+    r.mass = p[0];
+    r.h = p.segment<3>(1);
+    r.I << p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6];
+    return r;
+}
+
+namespace {
+
+// The model without inertia (and no armature, no joint dynamics): one body
+// given a unit inertial parameter at a time, its inverse dynamics is a
+// column of that body's inertial regressor.
+sim::Model without_inertia(const sim::Model& m) {
+    sim::Model r = m;
+    for (sim::BodyT<double>& b : r.bodies) b.inertia = sim::Inertia<double>();
+    for (sim::JointT<double>& j : r.joints) j.dynamics = sim::JointDynamics();
+    return r;
+}
+
+// Effort the actuators must supply at (q, qd, qdd): inverse dynamics minus
+// what the model's own joint dynamics already do.
+void model_effort(const sim::Model& m, sim::Data& d, const Eigen::VectorXd& qdd, Eigen::VectorXd& tau) {
+    sim::update_kinematics(m, d);
+    sim::inverse_dynamics(m, d, qdd, tau);
+    sim::passive_forces(m, d, sim::FrictionLaw::Regularised);
+    tau -= d.qfrc_passive;
+}
+
+}  // namespace
+
+
+RegressionRows regression_rows(const sim::Model& m, const std::vector<const Record*>& records,
+                               const IdentifyOptions& options, const std::vector<double>* weights) {
+    RegressionRows rows;
+    for (const sim::JointT<double>& j : m.joints)
+        if (j.nv() != 1)
+            throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
+                        "joint '" + j.name + "' is not a revolute or prismatic joint: inverse-dynamics "
+                        "identification needs one coordinate per joint");
+    // Actuated coordinates: those with an effort signal in every record;
+    // measured ones: those with a position in every record.
+    std::vector<char> measured(size_t(m.nv), 0);
+    for (int dof = 0; dof < m.nv; ++dof) {
+        bool effort = !records.empty(), position = !records.empty();
+        for (const Record* r : records) {
+            effort = effort && r->find(Quantity::Effort, dof);
+            position = position && r->find(Quantity::Position, dof);
+        }
+        if (effort) rows.actuated.push_back(dof);
+        measured[size_t(dof)] = position;
+    }
+    if (rows.actuated.empty())
+        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "no joint has a measured effort in every record");
+    for (int dof : rows.actuated)
+        if (!measured[size_t(dof)] && !m.closures.empty())
+            throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(m.dof_joint[size_t(dof)])].subject(),
+                        "joint '" + m.joints[size_t(m.dof_joint[size_t(dof)])].name +
+                            "' has a measured effort but no measured position in every record");
+    ClosedChain chain = closed_chain(m, measured);
+    const size_t na = rows.actuated.size();
+    std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
+    for (size_t a = 0; a < na; ++a)
+        actuated_at[a] = Eigen::Index(std::find(chain.independent.begin(), chain.independent.end(), rows.actuated[a]) -
+                                      chain.independent.begin());
+
+    sim::Model unit = without_inertia(m);
+
+    struct Sample {
+        Eigen::VectorXd q, qd, qdd, effort, rate;
+        bool first = false;  // of its record: the loops are closed from the assembly pose
+    };
+    std::vector<Sample> kept;
+    for (const Record* r : records) {
+        const double dt = r->sample_period();
+        const double fs = 1 / dt;
+        const double cutoff = options.cutoff > 0 ? options.cutoff : std::min(25.0, fs / 40);
+        std::vector<std::vector<double>> q(size_t(m.nv)), qd(size_t(m.nv)), qdd(size_t(m.nv));
+        for (int dof : chain.independent) {
+            const Signal* p = r->find(Quantity::Position, dof);
+            if (!p)
+                throw Error(MBX_ERROR_INVALID_INPUT, m.joints[size_t(m.dof_joint[size_t(dof)])].subject(),
+                            r->path + ": joint '" + m.joints[size_t(m.dof_joint[size_t(dof)])].name +
+                                "' has no measured position: inverse-dynamics identification needs every coordinate "
+                                "of a tree");
+            q[size_t(dof)] = low_pass(p->values, dt, cutoff);
+            qd[size_t(dof)] = derivative(q[size_t(dof)], dt);
+            qdd[size_t(dof)] = derivative(qd[size_t(dof)], dt);
+        }
+        std::vector<std::vector<double>> effort(na), rate(na);
+        const size_t n = r->t.size();
+        const int record = int(rows.record_period.size());
+        rows.record_period.push_back(dt), rows.record_cutoff.push_back(cutoff);
+        rows.record_effort.emplace_back(Eigen::Index(n), Eigen::Index(na));
+        rows.record_velocity.push_back(Eigen::MatrixXd::Zero(Eigen::Index(n), m.nv));
+        for (size_t a = 0; a < na; ++a) {
+            effort[a] = low_pass(r->find(Quantity::Effort, rows.actuated[a])->values, dt, cutoff);
+            rate[a] = derivative(effort[a], dt);
+            for (size_t k = 0; k < n; ++k) rows.record_effort.back()(Eigen::Index(k), Eigen::Index(a)) = effort[a][k];
+        }
+        for (int dof : chain.independent)
+            for (size_t k = 0; k < n; ++k) rows.record_velocity.back()(Eigen::Index(k), dof) = qd[size_t(dof)][k];
+        // Decimate to about four samples per cutoff period (neighbouring
+        // rows of filtered data carry no new information and would make the
+        // standard errors look smaller than they are); drop the ends, where
+        // the filter and the differences are least certain.
+        const size_t step = std::max<size_t>(1, size_t(std::floor(fs / (4 * cutoff))));
+        const size_t edge = size_t(std::ceil(fs / cutoff));
+        for (size_t k = edge; k + edge < n; k += step) {
+            Sample s;
+            s.first = k == edge;
+            rows.row_record.push_back(record), rows.row_sample.push_back(int(k));
+            s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
+            s.effort.resize(long(na)), s.rate.resize(long(na));
+            for (int dof : chain.independent) {
+                const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(dof)])];
+                s.q[j.q_index] = q[size_t(dof)][k];
+                s.qd[dof] = qd[size_t(dof)][k];
+                s.qdd[dof] = qdd[size_t(dof)][k];
+            }
+            for (size_t a = 0; a < na; ++a) s.effort[long(a)] = effort[a][k], s.rate[long(a)] = rate[a][k];
+            kept.push_back(std::move(s));
+        }
+    }
+    rows.samples = int(kept.size());
+    if (rows.samples < 10)
+        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "too few samples for identification");
+    const Eigen::Index S = rows.samples, A = Eigen::Index(na);
+    rows.q.resize(S, m.nq), rows.qd.resize(S, m.nv), rows.qdd.resize(S, m.nv);
+    rows.effort.resize(S, A), rows.effort_rate.resize(S, A), rows.model_effort.resize(S, A);
+    rows.effort_by_position.assign(size_t(m.nv), Eigen::MatrixXd::Zero(S, A));
+    rows.effort_by_position2 = rows.effort_by_position;
+    rows.inertial_regressor.assign(size_t(m.body_count()), Eigen::MatrixXd::Zero(S * A, kInertialParameters));
+    sim::Data d(m), probe(m), unit_data(unit);
+    // The actuated efforts the model needs at a sample (positions in dd.q,
+    // the loops closed from there): the tree's inverse dynamics, projected
+    // onto the independent coordinates when there are loops.
+    Eigen::MatrixXd G;
+    Eigen::VectorXd tau, qd, qdd;
+    auto needed = [&](sim::Data& dd, const Sample& x, Eigen::VectorXd& out) {
+        qd = x.qd, qdd = x.qdd;
+        if (chain.active()) chain.close(m, dd, qd, qdd, G);
+        dd.v = qd;
+        model_effort(m, dd, qdd, tau);
+        out.resize(A);
+        if (chain.active()) {
+            const Eigen::VectorXd projected = G.transpose() * tau;
+            for (Eigen::Index a = 0; a < A; ++a) out[a] = projected[actuated_at[size_t(a)]];
+        } else {
+            for (Eigen::Index a = 0; a < A; ++a) out[a] = tau[rows.actuated[size_t(a)]];
+        }
+    };
+    Eigen::VectorXd base, moved, moved_back;
+    for (Eigen::Index s = 0; s < S; ++s) {
+        const Sample& x = kept[size_t(s)];
+        // Dependent positions start from the last sample's (or the assembly pose at a record's start).
+        const Eigen::VectorXd start = x.first || s == 0 ? m.q_reference : Eigen::VectorXd(d.q);
+        d.q = start;
+        for (int dof : chain.independent) {
+            const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
+            d.q[qi] = x.q[qi];
+        }
+        needed(d, x, base);
+        const Eigen::VectorXd q_full = d.q, qd_full = qd, qdd_full = qdd;
+        const Eigen::MatrixXd G_here = G;
+        rows.q.row(s) = q_full.transpose(), rows.qd.row(s) = qd_full.transpose(), rows.qdd.row(s) = qdd_full.transpose();
+        rows.effort.row(s) = x.effort.transpose(), rows.effort_rate.row(s) = x.rate.transpose();
+        rows.model_effort.row(s) = base.transpose();
+        // Sensitivity to each measured position (a sensor offset shifts the
+        // whole measured motion by it; in a loop the others follow).
+        // Central differences: the second derivative makes a sensor offset's
+        // column exact to second order (its quadratic part would otherwise
+        // be left for another cause).
+        for (int dof : chain.independent) {
+            const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
+            const double h = 1e-4 * std::max(1.0, std::abs(x.q[qi]));
+            for (int side : {1, -1}) {
+                probe.q = q_full;
+                probe.q[qi] += side * h;
+                Sample shifted = x;
+                shifted.q[qi] += side * h;
+                needed(probe, shifted, side > 0 ? moved : moved_back);
+            }
+            rows.effort_by_position[size_t(dof)].row(s) = ((moved - moved_back) / (2 * h)).transpose();
+            rows.effort_by_position2[size_t(dof)].row(s) = ((moved - 2 * base + moved_back) / (h * h)).transpose();
+        }
+        // Inverse dynamics is linear in each body's inertial parameters:
+        // one pass per body and unit parameter (kinematics shared).
+        unit_data.q = q_full, unit_data.v = qd_full;
+        sim::update_kinematics(unit, unit_data);
+        for (int b = 1; b < m.body_count(); ++b) {
+            if (!(m.bodies[size_t(b)].inertia.mass > 0)) continue;  // massless CAD joint nodes
+            for (int k = 0; k < kInertialParameters; ++k) {
+                unit.bodies[size_t(b)].inertia =
+                    inertia_of_parameters(Eigen::Matrix<double, kInertialParameters, 1>::Unit(k));
+                sim::inverse_dynamics(unit, unit_data, qdd_full, tau);
+                const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
+                for (Eigen::Index a = 0; a < A; ++a)
+                    rows.inertial_regressor[size_t(b)](s * A + a, k) =
+                        share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
+            }
+            unit.bodies[size_t(b)].inertia = sim::Inertia<double>();
+        }
+    }
+    if (weights) {
+        rows.weight = *weights;
+    } else {
+        // Each actuated joint weighs by its own effort level, so a joint in
+        // N and one in N m count alike.
+        for (Eigen::Index a = 0; a < A; ++a) {
+            const double rms = std::sqrt(rows.effort.col(a).squaredNorm() / double(S));
+            rows.weight.push_back(rms > 0 ? 1 / rms : 1.0);
+        }
+    }
+    return rows;
+}
+
+}  // namespace mbx::calibration

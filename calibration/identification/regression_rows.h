@@ -1,0 +1,84 @@
+// The rows of the inverse-dynamics regression: along the measured motion
+// (filtered, differentiated, decimated) the model's inverse dynamics
+// predicts each actuated joint's effort; the measured effort minus that is
+// what the causes (calibration/causes.h) must explain.
+#pragma once
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "calibration/records/records.h"
+
+namespace mbx::calibration {
+
+// A body's inertial parameters at its frame's origin, in this order: mass,
+// first moment m c (3), inertia about the origin (xx yy zz xy xz yz).
+constexpr int kInertialParameters = 10;
+Eigen::Matrix<double, kInertialParameters, 1> inertial_parameters(const sim::Inertia<double>& inertia);
+sim::Inertia<double> inertia_of_parameters(const Eigen::Matrix<double, kInertialParameters, 1>& p);
+
+// The regression data of one set of records (fit or validation): rows are
+// (decimated sample, actuated joint) pairs.
+struct RegressionRows {
+    std::vector<int> actuated;  // velocity coordinates with a measured effort
+    std::vector<double> weight; // per actuated coordinate: 1 / RMS of its fit-record effort
+    int samples = 0;
+    // Per sample and coordinate (samples x nv), filtered and differentiated.
+    Eigen::MatrixXd q, qd, qdd;
+    // Per sample and actuated coordinate (samples x actuated).
+    Eigen::MatrixXd effort, effort_rate, model_effort;
+    // d model_effort / d q_j and d^2 model_effort / d q_j^2, per coordinate
+    // j: (samples x actuated) each.
+    std::vector<Eigen::MatrixXd> effort_by_position, effort_by_position2;
+    // Per body, the actuated efforts' derivative with respect to the body's
+    // ten inertial parameters (inverse dynamics is linear in them, gravity
+    // included): (samples * actuated) x 10, rows sample-major as y(), columns
+    // kInertialParameters. Times the body's own parameters it is the body's
+    // share of the effort; times their change, what a mass, centre-of-mass or
+    // inertia error changes.
+    std::vector<Eigen::MatrixXd> inertial_regressor;
+    // The filtered signals between the rows, per record: columns that are
+    // nonlinear in the motion are evaluated at the full rate and filtered
+    // like the effort (a friction law's step at a reversal reaches the
+    // filtered effort smoothed), and an exact delay reads the effort between
+    // samples. Per record: full-rate effort (samples x actuated) and speeds
+    // (samples x nv, measured coordinates; zero for a loop's others), its
+    // sample period and filter cutoff; per row: its record and sample.
+    std::vector<Eigen::MatrixXd> record_effort, record_velocity;
+    std::vector<double> record_period, record_cutoff;
+    std::vector<int> row_record, row_sample;
+    Eigen::VectorXd y() const;        // weighted residual, stacked sample-major
+    Eigen::VectorXd measured() const; // weighted measured effort, same order
+};
+
+struct IdentifyOptions {
+    double cutoff = 0;         // Hz; 0: chosen from the sampling rate (fs / 40, at most 25 Hz)
+    double min_t_ratio = 5;    // a cause's parameters must exceed this many standard errors
+    // and cut the validation error by this fraction of itself (a tenth: a
+    // cause worth naming removes a visible part of what is left)
+    double min_relative_gain = 0.1;
+    double bic_margin = 10;    // and lower the validation BIC by this much (strong evidence)
+    int max_causes = 6;
+    // Two causes whose columns (beyond those named) correlate above this
+    // cannot be told apart by the data: neither is named (a warning says so);
+    // above the second they are one parameter, named once.
+    double max_rival_correlation = 0.99;
+    double same_column_correlation = 0.999;
+    // A cause named over another whose column (beyond those named) still
+    // correlates above this, and whose validation error is within this
+    // factor of the named one's, gets a warning that the records hardly
+    // tell the two apart.
+    double ambiguous_correlation = 0.99;
+    double ambiguous_error_ratio = 1.5;
+};
+
+// Rows from records. Trees: the position of every coordinate must be
+// measured. Closed chains: exactly the loops' independent coordinates
+// (every actuated one among them); the others are solved from the
+// closures, and the efforts are the tree's inverse dynamics projected onto
+// the independent coordinates (docs/calibration.md). Throws mbx::Error.
+RegressionRows regression_rows(const sim::Model& m, const std::vector<const Record*>& records,
+                               const IdentifyOptions& options, const std::vector<double>* weights = nullptr);
+
+}  // namespace mbx::calibration
+

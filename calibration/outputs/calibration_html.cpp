@@ -1,0 +1,513 @@
+// calibration.html: one page a person reads in a browser, with everything
+// inline (styles, SVG plots): no scripts, fonts or images from anywhere, so
+// it opens offline and can be mailed as one file.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <string_view>
+
+#include "calibration/outputs/calibration_files.h"
+#include "calibration/outputs/calibration_files_detail.h"
+#include "core/report/utf8.h"
+
+namespace mbx::calibration {
+
+namespace {
+
+using namespace detail;
+
+// ~4 significant digits, locale-independent (a host may have set a locale
+// with decimal commas).
+std::string num(double v, int digits = 4) {
+    if (!std::isfinite(v)) return "n/a";
+    if (v == 0) return "0";
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
+    return std::string(buf, r.ptr);
+}
+
+// A pixel coordinate: a tenth of a pixel is finer than any screen.
+void coord(std::string& out, double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, std::round(v * 10) / 10, std::chars_format::fixed, 1);
+    out.append(buf, r.ptr);
+}
+
+// Text for HTML content and attribute values: escaped and valid UTF-8.
+std::string esc(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    for (size_t i = 0; i < s.size();) {
+        const char c = s[i];
+        if (c == '&') out += "&amp;";
+        else if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else if (c == '"') out += "&quot;";
+        else if (c == '\'') out += "&#39;";
+        if (c == '&' || c == '<' || c == '>' || c == '"' || c == '\'') {
+            ++i;
+            continue;
+        }
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
+            out += ' ';
+            ++i;
+            continue;
+        }
+        i += append_utf8_or_replacement(out, s, i);
+    }
+    return out;
+}
+
+// Tick positions over [lo, hi]: steps of 1, 2 or 5 times a power of ten,
+// about `target` of them.
+std::vector<double> ticks(double lo, double hi, int target = 5) {
+    std::vector<double> out;
+    const double span = hi - lo;
+    if (!(span > 0) || !std::isfinite(span)) return {lo};
+    const double raw = span / target, mag = std::pow(10.0, std::floor(std::log10(raw)));
+    const double frac = raw / mag;
+    const double step = (frac < 1.5 ? 1 : frac < 3.5 ? 2 : frac < 7.5 ? 5 : 10) * mag;
+    // Counted in whole steps (t += step could stall where step is below the
+    // spacing of doubles near lo), and never more than a few dozen.
+    const double first = std::ceil(lo / step - 1e-9);
+    for (int k = 0; k < 50; ++k) {
+        const double t = (first + k) * step;
+        if (t > hi + step * 1e-9) break;
+        out.push_back(std::abs(t) < step * 1e-9 ? 0.0 : t);
+    }
+    return out;
+}
+
+struct Series {
+    std::string name;
+    const char* color;
+    const std::vector<double>* x;
+    const std::vector<double>* y;
+    bool points = false;  // scatter rather than a line
+};
+
+struct Plot {
+    std::string title, xlabel, ylabel;
+    std::vector<Series> series;
+};
+
+constexpr double kWidth = 760, kHeight = 310, kLeft = 72, kRight = 16, kTop = 42, kBottom = 44;
+// Beyond this many points a series is strided: the page stays small and a
+// browser draws it at once (the calibration thins plots to ~1500 already).
+constexpr size_t kMaxPoints = 4000;
+
+void range_of(const std::vector<Series>& series, bool x, double& lo, double& hi) {
+    lo = INFINITY, hi = -INFINITY;
+    for (const Series& s : series)
+        for (double v : x ? *s.x : *s.y)
+            if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (!(lo <= hi)) lo = 0, hi = 1;
+    if (hi - lo <= 1e-12 * std::max(std::abs(lo), std::abs(hi))) {
+        const double pad = lo == 0 ? 1 : std::abs(lo) * 0.1;
+        lo -= pad, hi += pad;
+    } else if (!x) {
+        const double pad = 0.04 * (hi - lo);
+        lo -= pad, hi += pad;
+    }
+}
+
+void text(std::string& out, double x, double y, const std::string& s, const char* anchor, const char* extra = "") {
+    out += "<text x=\"";
+    coord(out, x);
+    out += "\" y=\"";
+    coord(out, y);
+    out += "\" text-anchor=\"";
+    out += anchor;
+    out += "\"";
+    out += extra;
+    out += ">" + esc(s) + "</text>";
+}
+
+void line(std::string& out, double x1, double y1, double x2, double y2) {
+    out += "<line x1=\"";
+    coord(out, x1);
+    out += "\" y1=\"";
+    coord(out, y1);
+    out += "\" x2=\"";
+    coord(out, x2);
+    out += "\" y2=\"";
+    coord(out, y2);
+    out += "\"/>";
+}
+
+// The frame, grid and tick labels of a plot over [x0, x1] x [y0, y1];
+// `xticks` false leaves the x axis to the caller (categories).
+struct Frame {
+    double x0, x1, y0, y1;
+    double px(double x) const { return kLeft + (x - x0) / (x1 - x0) * (kWidth - kLeft - kRight); }
+    double py(double y) const { return kHeight - kBottom - (y - y0) / (y1 - y0) * (kHeight - kTop - kBottom); }
+};
+
+void axes(std::string& out, const Frame& f, const std::string& title, const std::string& xlabel,
+          const std::string& ylabel, bool xticks) {
+    out += "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " + num(kWidth) + " " + num(kHeight) +
+           "\" width=\"" + num(kWidth) + "\" height=\"" + num(kHeight) +
+           "\" role=\"img\" font-family=\"sans-serif\" font-size=\"11\"><title>" + esc(title) + "</title>";
+    text(out, kLeft, 15, title, "start", " font-weight=\"bold\"");
+    // Styles as attributes, not CSS: a plot copied out of the page still draws.
+    out += "<g stroke=\"#e4e4e4\">";
+    for (double t : ticks(f.y0, f.y1)) line(out, kLeft, f.py(t), kWidth - kRight, f.py(t));
+    if (xticks)
+        for (double t : ticks(f.x0, f.x1, 8)) line(out, f.px(t), kTop, f.px(t), kHeight - kBottom);
+    out += "</g>";
+    for (double t : ticks(f.y0, f.y1)) text(out, kLeft - 5, f.py(t) + 4, num(t), "end");
+    if (xticks)
+        for (double t : ticks(f.x0, f.x1, 8)) text(out, f.px(t), kHeight - kBottom + 15, num(t), "middle");
+    out += "<rect fill=\"none\" stroke=\"#888\" x=\"" + num(kLeft) + "\" y=\"" + num(kTop) + "\" width=\"" + num(kWidth - kLeft - kRight) +
+           "\" height=\"" + num(kHeight - kTop - kBottom) + "\"/>";
+    text(out, (kLeft + kWidth - kRight) / 2, kHeight - 6, xlabel, "middle");
+    std::string rotate = " transform=\"rotate(-90 14 " + num((kTop + kHeight - kBottom) / 2) + ")\"";
+    text(out, 14, (kTop + kHeight - kBottom) / 2, ylabel, "middle", rotate.c_str());
+}
+
+void legend(std::string& out, const std::vector<std::pair<std::string, const char*>>& items) {
+    double x = kWidth - kRight;
+    for (size_t i = items.size(); i-- > 0;) {
+        const double w = 6.5 * double(items[i].first.size()) + 30;
+        x -= w;
+        out += "<rect x=\"" + num(x) + "\" y=\"22\" width=\"12\" height=\"10\" fill=\"" + items[i].second + "\"/>";
+        text(out, x + 16, 31, items[i].first, "start");
+    }
+}
+
+std::string svg(const Plot& p) {
+    Frame f{};
+    range_of(p.series, true, f.x0, f.x1);
+    range_of(p.series, false, f.y0, f.y1);
+    std::string out;
+    axes(out, f, p.title, p.xlabel, p.ylabel, true);
+    std::vector<std::pair<std::string, const char*>> items;
+    for (const Series& s : p.series) {
+        items.emplace_back(s.name, s.color);
+        const size_t n = std::min(s.x->size(), s.y->size());
+        const size_t stride = n > kMaxPoints ? (n + kMaxPoints - 1) / kMaxPoints : 1;
+        // Points are zero-length segments with round caps: a dot each, in a
+        // fraction of the bytes of a circle element.
+        out += s.points ? "<path fill=\"none\" stroke-width=\"3\" stroke-linecap=\"round\" stroke-opacity=\"0.6\" stroke=\""
+                        : "<path fill=\"none\" stroke-width=\"1.2\" stroke-linejoin=\"round\" stroke=\"";
+        out += s.color;
+        out += "\" d=\"";
+        bool pen = false;
+        for (size_t i = 0; i < n; i += stride) {
+            const double x = (*s.x)[i], y = (*s.y)[i];
+            if (!std::isfinite(x) || !std::isfinite(y)) {
+                pen = false;
+                continue;
+            }
+            if (s.points || !pen) out += 'M';
+            else out += ' ';
+            coord(out, f.px(x));
+            out += ' ';
+            coord(out, f.py(y));
+            if (s.points) out += "h0";
+            pen = true;
+        }
+        out += "\"/>";
+    }
+    legend(out, items);
+    out += "</svg>\n";
+    return out;
+}
+
+// Grouped bars of the error after each step.
+std::string step_chart(const CalibrationResult& r) {
+    struct Bar {
+        const char* name;
+        const char* color;
+        double StepErrors::*value;
+    };
+    const Bar bars[] = {{"identification fit", "#9ecae1", &StepErrors::fit_error},
+                        {"identification validation", "#3182bd", &StepErrors::validation_error},
+                        {"simulated fit", "#fdae6b", &StepErrors::simulated_fit},
+                        {"simulated validation", "#e6550d", &StepErrors::simulated_validation}};
+    double top = 0;
+    for (const StepErrors& s : r.steps)
+        for (const Bar& b : bars)
+            if (std::isfinite(s.*b.value)) top = std::max(top, s.*b.value);
+    Frame f{0, double(r.steps.size()), 0, top > 0 ? top * 1.05 : 1};
+    std::string out;
+    axes(out, f, "Error after each step", "step", "error [%]", false);
+    const double group = f.px(1) - f.px(0), w = group * 0.8 / 4;
+    for (size_t i = 0; i < r.steps.size(); ++i) {
+        const StepErrors& s = r.steps[i];
+        for (size_t k = 0; k < 4; ++k) {
+            const double v = s.*bars[k].value;
+            if (!std::isfinite(v)) continue;
+            const double x = f.px(double(i)) + group * 0.1 + double(k) * w;
+            out += "<rect x=\"";
+            coord(out, x);
+            out += "\" y=\"";
+            coord(out, f.py(v));
+            out += "\" width=\"";
+            coord(out, w);
+            out += "\" height=\"";
+            coord(out, f.py(0) - f.py(v));
+            out += "\" fill=\"";
+            out += bars[k].color;
+            out += "\"><title>" + esc(s.label) + ": " + bars[k].name + " " + num(v) + " %</title></rect>";
+        }
+        // The cause's name fits under its bars; the full label is in the table.
+        std::string label = std::to_string(i) + " " +
+                            (s.cause >= 0 ? r.identification.causes[size_t(s.cause)].candidate.cause
+                                          : i == 0 ? std::string("baseline") : s.label);
+        const size_t fits = size_t(std::max(4.0, group / 6.2));
+        if (label.size() > fits) label = label.substr(0, fits - 1) + "…";
+        text(out, f.px(double(i) + 0.5), kHeight - kBottom + 15, label, "middle");
+    }
+    legend(out, {{"ident. fit", bars[0].color}, {"ident. validation", bars[1].color},
+                 {"simulated fit", bars[2].color}, {"simulated validation", bars[3].color}});
+    out += "</svg>\n";
+    return out;
+}
+
+const char* kStyle = R"(body{font:14px/1.45 system-ui,sans-serif;margin:1.5em auto;max-width:1100px;padding:0 1em;color:#222}
+h1{font-size:1.5em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:2px 7px;text-align:left;vertical-align:top}
+td.n{text-align:right;font-variant-numeric:tabular-nums}svg{display:block;margin:.6em 0;max-width:100%;height:auto}
+.w{color:#a33}
+)";
+
+// The record's file name and role: full paths are in the records table and
+// would crowd a plot's title.
+// Records are named relative to the experiment file ("dir/../data/x.csv"):
+// shown normalised (the JSON keeps them as given).
+std::string shown_path(const std::string& path) { return std::filesystem::path(path).lexically_normal().string(); }
+
+std::string record_label(const CalibrationResult& r, int i) {
+    const std::string& path = r.record_paths[size_t(i)];
+    const size_t slash = path.find_last_of('/');
+    return (slash == std::string::npos ? path : path.substr(slash + 1)) + " (" + role_name(r.record_roles[size_t(i)]) + ")";
+}
+
+// Quantity, unit: "effort [N]".
+std::string axis_label(Quantity q, bool linear, const char* what = nullptr) {
+    return std::string(what ? what : quantity_name(q)) + " [" + quantity_unit(q, linear) + "]";
+}
+
+void step_table(std::string& h, const CalibrationResult& r) {
+    h += "<table><tr><th>step</th><th>model</th><th>identification fit %</th><th>identification validation %</th>"
+         "<th>simulated fit %</th><th>simulated validation %</th></tr>\n";
+    for (size_t i = 0; i < r.steps.size(); ++i) {
+        const StepErrors& s = r.steps[i];
+        h += "<tr><td class=n>" + std::to_string(i) + "</td><td>" + esc(s.label) + "</td><td class=n>" +
+             num(s.fit_error) + "</td><td class=n>" + num(s.validation_error) + "</td><td class=n>" +
+             num(s.simulated_fit) + "</td><td class=n>" + num(s.simulated_validation) + "</td></tr>\n";
+    }
+    h += "</table>\n";
+}
+
+void signal_table(std::string& h, const sim::Model& model, const CalibrationResult& r) {
+    const StepErrors &b = r.baseline(), &f = r.final_step();
+    if (b.simulated.empty()) return;
+    h += "<table><tr><th>record</th><th>joint or body</th><th>quantity</th><th>weight</th><th>baseline %</th>"
+         "<th>calibrated %</th><th>baseline RMS</th><th>calibrated RMS</th></tr>\n";
+    for (const SignalError& e : b.simulated) {
+        const SignalError* after = nullptr;
+        for (const SignalError& g : f.simulated)
+            if (g.record == e.record && g.joint == e.joint && g.quantity == e.quantity && g.body == e.body &&
+                g.component == e.component && g.point == e.point)
+                after = &g;
+        const char* unit = signal_unit(model, e.joint, e.body, e.quantity);
+        h += "<tr><td>" + esc(record_label(r, e.record)) + "</td><td>" +
+             esc(signal_label(model, e.joint, e.body, e.quantity, e.component, e.point)) + "</td><td>" +
+             quantity_name(e.quantity) + "</td><td class=n>" + num(e.weight) + "</td><td class=n>" + num(e.relative) +
+             "</td><td class=n>" + (after ? num(after->relative) : "") + "</td><td class=n>" + num(e.rms) + " " + unit +
+             "</td><td class=n>" + (after ? num(after->rms) + " " + unit : "") + "</td></tr>\n";
+    }
+    h += "</table>\n";
+}
+
+std::string pose_text(const PoseError& e) {
+    return num(e.position) + " % of size, " + num(e.rotation) + " deg";
+}
+
+// The contact stage's causes, parameters and pose errors.
+void contact_table(std::string& h, const sim::Model& model, const ContactStageResult& c) {
+    h += "<p>Contact of body " + esc(model.bodies[size_t(c.body)].name) + " (" + std::to_string(c.fit_trials.size()) +
+         " fit and " + std::to_string(c.validation_trials.size()) + " validation trials, " +
+         std::to_string(c.fit.rollouts) + " rollouts): validation error before " + pose_text(c.fit.baseline_validation) +
+         ".</p>\n";
+    if (c.fit.steps.empty()) h += "<p>No contact cause lowered the validation error enough to be named.</p>\n";
+    else {
+        h += "<table><tr><th>step</th><th>cause</th><th>parameters (± standard error)</th><th>fit</th><th>validation</th>"
+             "<th>evidence</th></tr>\n";
+        for (size_t i = 0; i < c.fit.steps.size(); ++i) {
+            const ContactStep& s = c.fit.steps[i];
+            std::string p;
+            for (const FittedValue& v : s.parameters)
+                p += esc(v.name) + " = " + num(v.value) + " ± " + num(v.standard_error) + " " + esc(v.unit) + "<br>";
+            h += "<tr><td class=n>" + std::to_string(i + 1) + "</td><td>" + esc(s.cause) + "</td><td>" + p + "</td><td>" +
+                 pose_text(s.fit) + "</td><td>" + pose_text(s.validation) + "</td><td>" + esc(s.evidence) + "</td></tr>\n";
+        }
+        h += "</table>\n";
+    }
+    for (const std::string& n : c.fit.notes) h += "<p>" + esc(n) + "</p>\n";
+}
+
+void cause_table(std::string& h, const sim::Model& model, const CalibrationResult& r) {
+    const Identification& id = r.identification;
+    if (id.causes.empty()) {
+        h += "<p>No cause passed the tests: what the model misses is within what noise explains.</p>\n";
+        return;
+    }
+    h += "<table><tr><th>step</th><th>cause</th><th>subject</th><th>parameters (± standard error)</th>"
+         "<th>evidence</th><th>identification fit / validation %</th><th>simulated fit / validation %</th></tr>\n";
+    for (size_t i = 0; i < id.causes.size(); ++i) {
+        const SelectedCause& c = id.causes[i];
+        const CauseSubject s = cause_subject(model, c.candidate);
+        h += "<tr><td class=n>" + std::to_string(i + 1) + "</td><td>" + esc(c.candidate.cause) + "</td><td>" + s.kind +
+             " " + esc(s.name) + " <small>(" + esc(s.id) + ")</small></td><td>";
+        for (size_t k = 0; k < c.parameters.size(); ++k)
+            h += (k ? "<br>" : "") + esc(c.parameters[k].name) + " = " + num(c.parameters[k].value) + " ± " +
+                 num(c.parameters[k].std_error, 2);
+        h += "</td><td>" + esc(c.evidence) + "</td><td class=n>" + num(c.fit_error) + " / " + num(c.validation_error) +
+             "</td><td class=n>";
+        if (const StepErrors* st = step_of_cause(r, int(i)))
+            h += num(st->simulated_fit) + " / " + num(st->simulated_validation);
+        h += "</td></tr>\n";
+    }
+    h += "</table>\n";
+}
+
+// What the description file gets, in the joint's own units.
+void update_table(std::string& h, const CalibrationResult& r) {
+    if (r.joints.empty() && r.drives.empty() && r.unwritten.empty()) return;
+    h += "<h2>Written to description.xml</h2>\n";
+    if (!r.joints.empty()) {
+        h += "<table><tr><th>joint</th><th>causes</th><th>joint dynamics after calibration</th></tr>\n";
+        for (const JointUpdate& u : r.joints) {
+            const sim::JointDynamics& d = u.after;
+            const char* e = u.linear ? "N" : "N m";
+            const char* v = u.linear ? "m/s" : "rad/s";
+            std::string values;
+            auto add = [&](const char* name, double x, const std::string& unit) {
+                if (x == 0) return;
+                values += (values.empty() ? "" : ", ") + std::string(name) + " " + num(x) + " " + unit;
+            };
+            add("damping", d.damping, std::string(e) + (u.linear ? " s/m" : " s/rad"));
+            add("coulomb", d.coulomb, e);
+            if (d.asymmetric) {
+                add("damping (q̇ < 0)", d.damping_negative, std::string(e) + (u.linear ? " s/m" : " s/rad"));
+                add("coulomb (q̇ < 0)", d.coulomb_negative, e);
+            }
+            add("stribeck", d.stribeck, e);
+            add("stribeck velocity", d.stribeck_velocity, v);
+            add("offset", d.offset, e);
+            add("stiffness", d.stiffness, std::string(e) + (u.linear ? "/m" : "/rad"));
+            add("rest", d.rest, u.linear ? "m" : "rad");
+            add("armature", d.armature, u.linear ? "kg" : "kg m²");
+            if (const auto& t = u.transmission_after) {
+                add("transmission stiffness", t->stiffness, std::string(e) + (u.linear ? "/m" : "/rad"));
+                add("transmission damping", t->damping, std::string(e) + (u.linear ? " s/m" : " s/rad"));
+                add("motor inertia", t->motor_inertia, u.linear ? "kg" : "kg m²");
+                add("backlash", t->backlash, u.linear ? "m" : "rad");
+            }
+            std::string causes;
+            for (const std::string& c : u.causes) causes += (causes.empty() ? "" : ", ") + c;
+            h += "<tr><td>" + esc(u.name) + " <small>(" + esc(u.constraint_id) + ")</small></td><td>" + esc(causes) +
+                 "</td><td>" + esc(values) + "</td></tr>\n";
+        }
+        h += "</table>\n";
+    }
+    for (const DriveUpdate& d : r.drives)
+        h += "<p>Drive " + esc(d.name) + " <small>(" + esc(d.constraint_id) + ")</small>: controller delay " +
+             num(d.delay_before * 1e3) + " ms → " + num(d.delay_after * 1e3) + " ms.</p>\n";
+    if (!r.unwritten.empty()) {
+        h += "<p>Identified, applied in the replays, but not in the description file:</p><ul>\n";
+        for (const UnwrittenCause& u : r.unwritten)
+            h += "<li>" + esc(r.identification.causes[size_t(u.cause)].candidate.cause) + ": " + esc(u.reason) +
+                 "</li>\n";
+        h += "</ul>\n";
+    }
+}
+
+}  // namespace
+
+std::string calibration_html(const sim::Model& model, const Experiment& experiment, const CalibrationResult& r) {
+    check_result(model, r);
+    const Identification& id = r.identification;
+    std::string h;
+    h.reserve(256 * 1024);
+    const std::string title = "mbx calibration" + (model.name.empty() ? std::string() : ": " + model.name);
+    h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + esc(title) +
+         "</title>\n<style>\n" + kStyle + "</style></head><body>\n<h1>" + esc(title) + "</h1>\n";
+    const char* driven = r.mode == DriveMode::ClosedLoop ? "in closed loop (the controller follows the recorded reference)"
+                         : r.mode == DriveMode::Effort ? "by the recorded effort"
+                                                       : "free from the measured initial state";
+    h += "<p>Experiment " + esc(shown_path(experiment.path)) + ", the model driven " + driven + ". Calibrated in " +
+         num(r.wall_time, 3) + " s. Noise level (what the filter removed from the effort): " + num(id.noise_level) +
+         " %.</p>\n<table><tr><th>record</th><th>role</th></tr>\n";
+    for (size_t i = 0; i < r.record_paths.size(); ++i)
+        h += "<tr><td>" + esc(shown_path(r.record_paths[i])) + "</td><td>" + role_name(r.record_roles[i]) + "</td></tr>\n";
+    h += "</table>\n";
+
+    const StepErrors &b = r.baseline(), &f = r.final_step();
+    h += "<h2>Errors</h2>\n<p>Simulated error: fit " + num(b.simulated_fit) + " % → " + num(f.simulated_fit) +
+         " %, validation " + num(b.simulated_validation) + " % → " + num(f.simulated_validation) +
+         " % (identification: " + num(b.fit_error) + " % → " + num(f.fit_error) + " %, " + num(b.validation_error) +
+         " % → " + num(f.validation_error) + " %).</p>\n";
+    h += step_chart(r);
+    step_table(h, r);
+    signal_table(h, model, r);
+
+    h += "<h2>Causes</h2>\n";
+    if (r.contact.ran) contact_table(h, model, r.contact);
+    else cause_table(h, model, r);
+    update_table(h, r);
+
+    if (!r.traces.empty()) h += "<h2>Compared signals</h2>\n";
+    for (const Trace& t : r.traces) {
+        Plot p;
+        p.title = record_label(r, t.record) + ": " + signal_label(model, t.joint, t.body, t.quantity, t.component, t.point) +
+                  " " + quantity_name(t.quantity);
+        p.xlabel = "time [s]";
+        p.ylabel = std::string(quantity_name(t.quantity)) + " [" + signal_unit(model, t.joint, t.body, t.quantity) + "]";
+        p.series = {{"measured", "#222222", &t.t, &t.measured},
+                    {"baseline", "#d95f02", &t.t, &t.baseline},
+                    {"calibrated", "#1f77b4", &t.t, &t.calibrated}};
+        h += svg(p);
+    }
+
+    if (!r.residuals.empty())
+        h += "<h2>Residual signatures</h2>\n<p>Measured minus modelled effort on the fit records (inverse dynamics), "
+             "before and after calibration: friction shows against velocity, a spring or a sensor offset against "
+             "position.</p>\n";
+    for (const ResidualCloud& c : r.residuals) {
+        const bool linear = linear_joint(model, c.joint);
+        for (int against = 0; against < 2; ++against) {
+            Plot p;
+            const std::vector<double>* x = against == 0 ? &c.velocity : &c.position;
+            p.title = "Residual of " + joint_label(model, c.joint) + " against " + (against == 0 ? "velocity" : "position");
+            p.xlabel = axis_label(against == 0 ? Quantity::Velocity : Quantity::Position, linear);
+            p.ylabel = axis_label(Quantity::Effort, linear, "residual effort");
+            p.series = {{"before", "#d95f02", x, &c.before, true}, {"after", "#1f77b4", x, &c.after, true}};
+            h += svg(p);
+        }
+    }
+
+    std::vector<std::string> warnings = r.warnings;
+    for (const std::string& w : id.warnings)
+        if (std::find(warnings.begin(), warnings.end(), w) == warnings.end()) warnings.push_back(w);
+    h += "<h2>Warnings</h2>\n";
+    if (warnings.empty()) h += "<p>None.</p>\n";
+    else {
+        h += "<ul class=w>\n";
+        for (const std::string& w : warnings) h += "<li>" + esc(w) + "</li>\n";
+        h += "</ul>\n";
+    }
+    if (!id.considered.empty()) {
+        h += "<details><summary>Candidates considered in the first round</summary><ul>\n";
+        for (const std::string& s : id.considered) h += "<li>" + esc(s) + "</li>\n";
+        h += "</ul></details>\n";
+    }
+    h += "</body></html>\n";
+    return h;
+}
+
+}  // namespace mbx::calibration

@@ -1,0 +1,218 @@
+#include "core/report/atomic_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <filesystem>
+#include <set>
+#include <system_error>
+
+#include "core/finding.h"
+
+namespace mbx {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string describe(int err) { return std::error_code(err, std::generic_category()).message(); }
+
+[[noreturn]] void fail(const std::string& path, const std::string& what, int err) {
+    throw Error(MBX_ERROR_IO, Subject{MBX_SUBJECT_FILE, path, ""}, what + ": " + describe(err) + ".");
+}
+
+// Distinguishes temporaries of concurrent writers in one process; the pid
+// distinguishes processes. Names are also claimed with O_EXCL / link(), so a
+// stale file from a dead process with a recycled pid only costs a retry.
+std::string unique_sibling(const std::string& path) {
+    static std::atomic<unsigned long> counter{0};
+    return path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
+           std::to_string(counter.fetch_add(1, std::memory_order_relaxed));
+}
+
+constexpr int kNameAttempts = 100;
+
+std::string parent_directory(const std::string& path) {
+    const fs::path parent = fs::path(path).parent_path();
+    return parent.empty() ? std::string(".") : parent.string();
+}
+
+void create_parent_directories(const std::string& path) {
+    const fs::path parent = fs::path(path).parent_path();
+    if (parent.empty()) return;
+    std::error_code ec;
+    fs::create_directories(parent, ec);
+    if (ec || !fs::is_directory(parent)) {
+        // A file where a directory should be surfaces as EEXIST, whose text
+        // ("File exists") would mislead; say what is actually wrong.
+        const int err = !ec || ec.value() == EEXIST ? ENOTDIR : ec.value();
+        fail(path, "Cannot create the directory '" + parent.string() + "' for '" + path + "'", err);
+    }
+}
+
+bool write_all(int fd, const std::string& contents) {
+    const char* p = contents.data();
+    std::size_t left = contents.size();
+    while (left > 0) {
+        // Large single writes are split: some kernels cap a write near 2 GiB.
+        const std::size_t chunk = left < (std::size_t{1} << 30) ? left : (std::size_t{1} << 30);
+        const ssize_t n = ::write(fd, p, chunk);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+// Writes a new temporary next to `path` and returns its name; fsyncs it when
+// `sync` (a batch syncs its file systems once instead, see write_all).
+std::string write_temporary(const std::string& path, const std::string& contents, bool sync) {
+    create_parent_directories(path);
+    std::string tmp;
+    int fd = -1;
+    for (int attempt = 0; attempt < kNameAttempts && fd < 0; ++attempt) {
+        tmp = unique_sibling(path);
+        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST && errno != EINTR) break;
+    }
+    if (fd < 0) fail(path, "Cannot create a temporary file next to '" + path + "'", errno);
+
+    // fsync before rename: otherwise a crash may leave the new name pointing
+    // at an empty file on file systems that reorder metadata and data.
+    int err = 0;
+    if (!write_all(fd, contents)) err = errno;
+    if (!err && sync && ::fsync(fd) != 0) err = errno;
+    if (::close(fd) != 0 && !err && errno != EINTR) err = errno;
+    if (err) {
+        ::unlink(tmp.c_str());
+        fail(path, "Cannot write '" + path + "' (via the temporary '" + tmp + "')", err);
+    }
+    return tmp;
+}
+
+// Makes the renames themselves durable. Best effort: the data is already safe
+// and the rename done, so a failure here is no reason to report an error.
+void sync_directory(const std::string& dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    ::fsync(fd);
+    ::close(fd);
+}
+
+// Hard-links an existing target to a fresh sibling name so it can be restored.
+// Returns "" if the target does not exist or the file system cannot link.
+std::string backup(const std::string& path) {
+    for (int attempt = 0; attempt < kNameAttempts; ++attempt) {
+        std::string name = unique_sibling(path);
+        if (::link(path.c_str(), name.c_str()) == 0) return name;
+        if (errno != EEXIST && errno != EINTR) break;
+    }
+    return {};
+}
+
+struct Pending {
+    const std::string* path;
+    std::string tmp;
+    std::string backup;   // hard link to the previous target, "" if none
+    bool existed = false; // whether a target existed before
+};
+
+void remove_temporaries(const std::vector<Pending>& pending, std::size_t from) {
+    for (std::size_t i = from; i < pending.size(); ++i) {
+        if (!pending[i].tmp.empty()) ::unlink(pending[i].tmp.c_str());
+        if (!pending[i].backup.empty()) ::unlink(pending[i].backup.c_str());
+    }
+}
+
+// Both public functions in one: files are referenced, never copied.
+struct FileRef {
+    const std::string* path;
+    const std::string* contents;
+};
+
+// Flushes every file system holding one of `dirs` with one syncfs() each:
+// for an export of thousands of files, one fsync per file cost ~1 ms each and
+// dominated the export. Returns 0 or the first error.
+int sync_file_systems(const std::set<std::string>& dirs) {
+    std::set<dev_t> synced;
+    for (const std::string& dir : dirs) {
+        const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (fd < 0) return errno;
+        struct stat st;
+        int err = ::fstat(fd, &st) != 0 ? errno : 0;
+        if (!err && synced.insert(st.st_dev).second && ::syncfs(fd) != 0) err = errno;
+        ::close(fd);
+        if (err) return err;
+    }
+    return 0;
+}
+
+void write_all(const std::vector<FileRef>& files) {
+    std::vector<Pending> pending;
+    pending.reserve(files.size());
+    const bool batch = files.size() > 1;
+    std::set<std::string> dirs;
+    try {
+        for (const FileRef& f : files) {
+            pending.push_back({f.path, {}, {}, false});
+            pending.back().tmp = write_temporary(*f.path, *f.contents, !batch);
+            dirs.insert(parent_directory(*f.path));
+        }
+        if (batch) {
+            if (const int err = sync_file_systems(dirs))
+                fail(*files.front().path, "Cannot flush the new files to disk", err);
+        }
+    } catch (...) {
+        remove_temporaries(pending, 0);
+        throw;
+    }
+
+    // A single file needs no backup: a failed rename leaves the target alone.
+    if (pending.size() > 1) {
+        for (Pending& p : pending) {
+            struct stat st;
+            p.existed = ::lstat(p.path->c_str(), &st) == 0;
+            if (p.existed && !S_ISDIR(st.st_mode)) p.backup = backup(*p.path);
+        }
+    }
+
+    for (std::size_t i = 0; i < pending.size(); ++i) {
+        if (::rename(pending[i].tmp.c_str(), pending[i].path->c_str()) == 0) continue;
+        const int err = errno;
+        // Undo the renames already done, newest first, so the old set returns.
+        for (std::size_t j = i; j-- > 0;) {
+            const Pending& done = pending[j];
+            if (!done.backup.empty())
+                ::rename(done.backup.c_str(), done.path->c_str());
+            else if (!done.existed)
+                ::unlink(done.path->c_str());
+        }
+        remove_temporaries(pending, i);
+        const std::string& path = *pending[i].path;
+        fail(path, "Cannot replace '" + path + "' with its new contents", err);
+    }
+
+    for (const Pending& p : pending)
+        if (!p.backup.empty()) ::unlink(p.backup.c_str());
+    for (const std::string& dir : dirs) sync_directory(dir);
+}
+
+}  // namespace
+
+void write_file_atomically(const std::string& path, const std::string& contents) {
+    write_all({{&path, &contents}});
+}
+
+void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files) {
+    std::vector<FileRef> refs;
+    refs.reserve(files.size());
+    for (const auto& [path, contents] : files) refs.push_back({&path, &contents});
+    write_all(refs);
+}
+
+}  // namespace mbx

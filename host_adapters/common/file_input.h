@@ -1,0 +1,31 @@
+// An input file opened by one of the file adapters, whatever its format: what
+// the command-line tool, the file host's C face (libmbx_files) and the Python
+// package hold while the SDK translates from its mbx_host table. Each format
+// opens its files through its entry in host_adapters/inputs/input_formats.h.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host_adapters/common/shape_matching.h"
+#include "mbx/mbx.h"
+
+namespace mbx_files {
+
+// Options every file format takes; a format ignores those it has no use for
+// (a format whose parts carry their own geometry has no scene to match).
+struct FileInputOptions {
+    std::string shapes_path;  // a scene (VRML97) holding the parts' shapes; "" = none
+    // Searched for the mesh files a model names after the input's own folder.
+    std::vector<std::string> mesh_dirs;
+    MatchOptions match;  // pose matching of scene shapes to bodies
+};
+
+class FileInput {
+public:
+    virtual ~FileInput() = default;
+    // The host table; valid as long as this object. A mechanism translated
+    // from it must be destroyed, or must release the host, before this.
+    virtual const mbx_host* table() const = 0;
+};
+
+}  // namespace mbx_files

@@ -1,0 +1,49 @@
+// No exception crosses the C boundary: every entry point runs its body here.
+#pragma once
+#include <cstring>
+#include <new>
+
+#include "sdk/capi/handles.h"
+
+namespace mbx {
+
+template <class Body>
+mbx_status guarded(mbx_context* context, Body&& body) {
+    try {
+        body();
+        if (context) context->clear();
+        return MBX_OK;
+    } catch (const Error& e) {
+        return context ? context->fail(e.status(), e.what(), e.subject(), e.file(), e.line()) : e.status();
+    } catch (const std::bad_alloc&) {
+        return context ? context->fail(MBX_ERROR_OUT_OF_MEMORY, "out of memory") : MBX_ERROR_OUT_OF_MEMORY;
+    } catch (const std::exception& e) {
+        return context ? context->fail(MBX_ERROR_INTERNAL, std::string("internal error: ") + e.what())
+                       : MBX_ERROR_INTERNAL;
+    } catch (...) {
+        return context ? context->fail(MBX_ERROR_INTERNAL, "internal error") : MBX_ERROR_INTERNAL;
+    }
+}
+
+// The raw value of a C enum field: a C host may store any int there, and
+// reading it as the enum type would be undefined for values outside it.
+template <class E>
+int raw_enum(const E& e) {
+    int raw = 0;
+    static_assert(sizeof raw == sizeof e, "C enums are int-sized");
+    std::memcpy(&raw, &e, sizeof raw);
+    return raw;
+}
+
+// Copies a fully filled SDK-side struct into the caller's, which may be an
+// older, smaller version: only the bytes it declared are written.
+template <class T>
+mbx_status copy_out(T* out, const T& full) {
+    if (!out || out->struct_size < 2 * sizeof(uint32_t)) return MBX_ERROR_INVALID_ARGUMENT;
+    const uint32_t size = out->struct_size;
+    std::memcpy(static_cast<void*>(out), &full, size < sizeof(T) ? size : sizeof(T));
+    out->struct_size = size;
+    return MBX_OK;
+}
+
+}  // namespace mbx
