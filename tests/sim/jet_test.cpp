@@ -2,18 +2,19 @@
 // derivatives it carries equal central finite differences of the double
 // model, for parameters calibration will fit (a body's mass, a joint's
 // damping) and for the state. A wrong template path (a double-only shortcut
-// that drops the dual part) gives a zero or wrong derivative.
-#include <ceres/jet.h>
+// that drops the dual part) gives a zero or wrong derivative. The Jet is the
+// simulation fit's own (calibration/simulation/fit_scalar.h), so these are
+// the compiled instances calibration differentiates with.
 
 #include <doctest/doctest.h>
 
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
-#include "sim/forward_dynamics.hxx"  // a Jet of its own size: the definitions
+#include "calibration/simulation/fit_scalar.h"
 #include "sim/joint_forces.h"
 
 using namespace mbx;
-using Jet = ceres::Jet<double, 2>;
+using Jet = mbx::calibration::FitJet;
 using mbx::sim::Vec3T;
 using mbx::sim::VecXT;
 

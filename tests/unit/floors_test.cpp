@@ -25,8 +25,11 @@ namespace {
 struct Room {
     const char* prefix;  // path from the root; the longest matching prefix wins
     int floor;
-    // Rooms of the same floor this one may include ("" for none).
+    // Rooms of the same floor this one may include.
     std::set<std::string> reaches;
+    // When not empty, the only rooms below it may include: a host sees the
+    // contract and host adapters, never the SDK's internals.
+    std::set<std::string> only_below = {};
 };
 
 // Floor 0 is the core; 1 the modules that stand on it; 2 the SDK's C faces;
@@ -43,7 +46,8 @@ const std::vector<Room>& rooms() {
         {"view/", 1, {"sim/", "export/"}},  // forward kinematics, the glTF scene
         {"sdk/", 2, {}},
         {"host_adapters/files_capi/", 2, {}},
-        {"apps/", 3, {}},
+        {"apps/", 3, {"apps/stub_host/"}},  // the CLI serves the stub host's built-in assemblies
+        {"apps/stub_host/", 3, {}, {"sdk/include/", "host_adapters/"}},
     };
     return table;
 }
@@ -110,6 +114,10 @@ std::vector<Violation> check_tree(const fs::path& root) {
                 out.push_back({file, line_no, inc, "reaches " + target + ", which is on no floor"});
                 continue;
             }
+            if (to->floor < from->floor && !from->only_below.empty() && !from->only_below.count(to->prefix)) {
+                out.push_back({file, line_no, inc, std::string(from->prefix) + " may include only the public header and host adapters, not " + target});
+                continue;
+            }
             if (to == from || to->floor < from->floor) continue;
             if (to->floor == from->floor && from->reaches.count(to->prefix)) continue;
             std::ostringstream why;
@@ -149,11 +157,14 @@ TEST_CASE("the floors check catches an upward and an unplaceable include") {
     write("sdk/capi/api.cpp", "#include \"sim/model.h\"\n");
     write("calibration/fit.cpp", "#include \"sim/model.h\"\n#include \"view/page.h\"\n#include \"fit_local.h\"\n");
     write("view/page.h", "#pragma once\n");
+    fs::create_directories(root / "apps/stub_host");
+    write("apps/stub_host/host.cpp", "#include \"core/finding.h\"\n");
     const std::vector<Violation> v = check_tree(root);
     fs::remove_all(root);
     std::map<std::string, std::string> by_file;
     for (const Violation& x : v) by_file[x.file + " " + x.include] = x.why;
-    CHECK(v.size() == 3);
+    CHECK(v.size() == 4);
+    CHECK(by_file.count("apps/stub_host/host.cpp core/finding.h"));         // a host seeing the SDK's internals
     CHECK(by_file.count("core/translator/up.cpp sim/model.h"));            // the core reaching floor 1
     CHECK(by_file.count("calibration/fit.cpp view/page.h"));               // a room it may not reach
     CHECK(by_file.count("calibration/fit.cpp fit_local.h"));               // resolvable only by an include path
