@@ -247,8 +247,9 @@ def _fields(struct, names):
 
 def translate(path, shapes=None, mesh_dirs: Sequence = (), mass_check: bool = True, length_tolerance: float = 0.0,
               centroid_tolerance: float = 0.0) -> "Mechanism":
-    """Translates a SimMechanics first-generation XML file (PMXML) into a
-    :class:`Mechanism`, as ``mbx translate`` does.
+    """Translates a CAD export into a :class:`Mechanism`, as ``mbx translate``
+    does. Its format is told from its XML root element or extension, as
+    ``mbx formats`` lists (today SimMechanics first-generation XML, PMXML).
 
     ``shapes`` names a VRML97 scene whose shapes are matched to the bodies by
     pose; ``mesh_dirs`` are searched for the mesh files the XML names after

@@ -142,8 +142,10 @@ mbx_memory::Assembly awkward_names() {
 }
 
 // Golden files live beside this test; MBX_UPDATE_GOLDEN=1 rewrites them.
+// Found from the samples folder, not __FILE__: a compiler cache with a base
+// directory (.ci/configure) makes __FILE__ relative to the build folder.
 void check_golden(const std::string& file, const std::string& contents) {
-    const fs::path path = fs::path(__FILE__).parent_path() / "golden" / file;
+    const fs::path path = fs::path(MBX_SAMPLES_DIR).parent_path() / "tests" / "export" / "golden" / file;
     const char* update = std::getenv("MBX_UPDATE_GOLDEN");
     if (update && std::string(update) == "1") {
         fs::create_directories(path.parent_path());
