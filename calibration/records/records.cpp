@@ -1,9 +1,7 @@
 #include "calibration/records/records.h"
 
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "calibration/records/body_quantities.h"
 #include "core/finding.h"

@@ -71,6 +71,13 @@ std::string xml_root_element(const std::string& path) {
     return "";
 }
 
+// "*.xml, *.foo": a format's extensions as help texts and errors name them.
+std::string extension_list(const InputFormat& f) {
+    std::string out;
+    for (const std::string& ext : f.extensions) out += (out.empty() ? "*" : ", *") + ext;
+    return out;
+}
+
 }  // namespace
 
 const std::vector<InputFormat>& input_formats() {
@@ -101,9 +108,7 @@ std::unique_ptr<FileInput> open_input(const std::string& path, const FileInputOp
     const InputFormat* format = input_format_of(path);
     if (!format) {
         std::string known;
-        for (const InputFormat& f : input_formats()) {
-            for (const std::string& ext : f.extensions) known += (known.empty() ? "" : ", ") + ("*" + ext);
-        }
+        for (const InputFormat& f : input_formats()) known += (known.empty() ? "" : ", ") + extension_list(f);
         throw FileError(path, 0, "not a file format mbx reads (" + known + ")");
     }
     return format->open(path, options);
@@ -112,10 +117,7 @@ std::unique_ptr<FileInput> open_input(const std::string& path, const FileInputOp
 std::string input_formats_help() {
     std::string out;
     for (const InputFormat& f : input_formats()) {
-        out += std::string("  ") + f.name + "  " + f.description;
-        std::string exts;
-        for (const std::string& ext : f.extensions) exts += (exts.empty() ? "*" : ", *") + ext;
-        out += " (" + exts + ")\n";
+        out += std::string("  ") + f.name + "  " + f.description + " (" + extension_list(f) + ")\n";
     }
     return out;
 }
