@@ -1,9 +1,10 @@
-// The catalogue of physical causes a model may lack (docs/calibration.md):
-// each names its subject (a joint or a body), the parameters it adds and,
-// for the inverse-dynamics regression, the columns whose coefficients they
-// are. Nonlinear settings start from a grid (Stribeck speeds, each grid value
-// a candidate of its own) or from a first-order column (the delay) and are
-// refined by identify() (calibration/identify.h).
+// Candidates: a cause of the table (calibration/cause_table.h) on one
+// subject (a joint or a body), with the parameters it adds and, for the
+// inverse-dynamics regression, the columns whose coefficients they are.
+// Nonlinear settings start from a grid (Stribeck speeds, each grid value a
+// candidate of its own) or from a first-order column (the delay) and are
+// refined by identify() (calibration/identification/identify.h). A body's
+// inertia correction (mass_error) is worked out here too.
 #pragma once
 #include <Eigen/Dense>
 #include <string>
@@ -12,6 +13,8 @@
 #include "calibration/identification/regression_rows.h"
 
 namespace mbx::calibration {
+
+struct CauseKind;
 
 // A body's inertia as a mass_error corrects it, relative to the model:
 // mass and inertia times mass_scale, then the centre of mass shifted (the
@@ -53,7 +56,7 @@ sim::Inertia<S> corrected_inertia(const sim::Inertia<S>& inertia, const S& mass_
 double largest_com_shift(const sim::Inertia<double>& inertia);
 
 struct Candidate {
-    std::string cause;   // the vocabulary name: coulomb_friction, viscous_friction, ...
+    std::string cause;   // the table's name: coulomb_friction, viscous_friction, ...
     int joint = -1;      // sim joint (joint causes)
     int dof = -1;
     int q_index = -1;
@@ -77,6 +80,7 @@ struct Candidate {
     // Sets com_anchor to the shift of coefficients theta and the columns' directions with it.
     void anchor_com_shift(const Eigen::VectorXd& theta);
     std::vector<std::string> parameters;  // names of the regression coefficients
+    const CauseKind& kind() const;        // its table entry (an mbx::Error if the name has none)
     double scale = 0;    // a fixed nonlinear setting (Stribeck velocity, the Coulomb law's smoothing speed)
     // The Stribeck law's smoothing speed of sign(q̇) (0: sign_speed's); refined with `scale`.
     double smoothing = 0;
@@ -107,7 +111,12 @@ struct Candidate {
                                                            "inertia_change_xz", "inertia_change_yz"};
 };
 
-// Every candidate for the actuated joints and the moving bodies of `m`.
+// mass_error variants of one body: its mass (and inertia alike), a centre
+// of mass shifted along each axis the records see or along all of them,
+// and each inertia entry they see changed, or all of them.
+std::vector<Candidate> body_candidates(const RegressionRows& fit, int body, const sim::Inertia<double>& inertia);
+
+// Every candidate for the actuated joints, the measured coordinates and the moving bodies of `m`.
 std::vector<Candidate> catalogue(const sim::Model& m, const RegressionRows& fit);
 
 // The smoothing speed of sign(q̇) for a coordinate: a small fraction of

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "calibration/cause_table.h"
 #include "core/finding.h"
 
 namespace mbx::calibration {
@@ -93,22 +94,22 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         int best = -1;
         Fit best_fit;
         double best_gain = 0;
-        // One Stribeck grid speed per joint goes on to be refined: the one
-        // that fits best (the refinement spans the grid's spacing).
-        std::vector<char> stribeck_best(candidates.size(), 0);
+        // One grid setting (a Stribeck speed) per joint goes on to be
+        // refined: the one that fits best (the refinement spans the grid's spacing).
+        std::vector<char> grid_best(candidates.size(), 0);
         {
             std::vector<double> best_sse(size_t(m.nv), INFINITY);
             std::vector<int> best_at(size_t(m.nv), -1);
             for (size_t k = 0; k < candidates.size(); ++k) {
                 const Candidate& c = candidates[k];
-                if (c.cause != "stribeck_friction" || taken(c)) continue;
+                if (c.kind().refinement != Refinement::GridAndSpeeds || taken(c)) continue;
                 Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
                 X2 << X, cols[k];
                 const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0));
                 if (f.ok && f.sse_fit < best_sse[size_t(c.dof)]) best_sse[size_t(c.dof)] = f.sse_fit, best_at[size_t(c.dof)] = int(k);
             }
             for (int k : best_at)
-                if (k >= 0) stribeck_best[size_t(k)] = 1;
+                if (k >= 0) grid_best[size_t(k)] = 1;
         }
         // A candidate whose columns the named causes already span (to the
         // same-column correlation) adds nothing but a fit to the noise, with
@@ -129,7 +130,8 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         };
         for (size_t k = 0; k < candidates.size(); ++k) {
             if (taken(candidates[k])) continue;
-            if (candidates[k].cause == "stribeck_friction" && !stribeck_best[k]) continue;
+            const Refinement refinement = candidates[k].kind().refinement;
+            if (refinement == Refinement::GridAndSpeeds && !grid_best[k]) continue;
             if (spanned(cols[k])) continue;
             auto fit_with = [&](const Eigen::MatrixXd& ck, const Eigen::MatrixXd& cvk) {
                 Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
@@ -140,7 +142,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             Fit f = fit_with(cols[k], cols_v[k]);
             if (!f.ok) continue;
             // Nonlinear settings, refined on the fit records along with the causes named so far.
-            if (candidates[k].cause == "delay") {
+            if (refinement == Refinement::ExactLag) {
                 // The exact lag: the column at setting d has the delay as its
                 // coefficient, so d = coefficient is a fixed point (a few
                 // steps from the first-order estimate; the second-order part
@@ -157,7 +159,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                     candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
                     if (settled) break;
                 }
-            } else if (candidates[k].cause == "sensor_offset") {
+            } else if (refinement == Refinement::OffsetAnchor) {
                 // Its column's second-order part at the offset found: a fixed point, as for a shift.
                 Candidate c = candidates[k];
                 for (int it = 0; it < 8; ++it) {
@@ -170,7 +172,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                     candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
                     if (std::abs(o - before) <= 1e-6 * std::abs(o)) break;
                 }
-            } else if (candidates[k].shifts_com()) {
+            } else if (refinement == Refinement::ComAnchor && candidates[k].shifts_com()) {
                 // The shift's columns through the shift found: a fixed point
                 // a few steps from the first-order estimate (the quadratic
                 // part of a shift would otherwise pass for an armature).
@@ -187,7 +189,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                     candidates[k] = c, cols[k] = ck, cols_v[k] = cvk, f = g;
                     if ((c.com_anchor - before).norm() <= 1e-6 * c.com_anchor.norm()) break;
                 }
-            } else if (candidates[k].cause == "stribeck_friction") {
+            } else if (refinement == Refinement::GridAndSpeeds) {
                 // The Stribeck speed and the sign's smoothing speed (the
                 // breadth of the law's step at zero speed, which trades
                 // against its amplitude): golden-section searches on the fit
@@ -274,7 +276,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         const Eigen::Index nv = yv.size();
         const bool relative = err_new < (1 - options.min_relative_gain) * err_now;
         // (A Stribeck law's two refined speeds count as parameters too.)
-        const Eigen::Index settings = candidates[size_t(best)].cause == "stribeck_friction" ? 2 : 0;
+        const Eigen::Index settings = candidates[size_t(best)].kind().settings;
         const bool evidence = bic(best_fit.sse_validation, nv, X.cols() + cols[size_t(best)].cols() + settings) <
                               bic(current.sse_validation, nv, X.cols()) - options.bic_margin;
         if (!relative || !evidence) break;

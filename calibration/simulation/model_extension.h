@@ -23,6 +23,25 @@ struct ModelExtension {
     std::vector<std::string> warnings;
 };
 
+// One cause's step of extend(): what its table entry's `extend`
+// (calibration/cause_table.cpp) reads and adds to.
+struct ExtensionStep {
+    const Mechanism& mechanism;
+    const sim::BuildOptions& base;
+    const sim::Model& model;
+    const RegressionRows& fit;
+    ModelExtension& ext;
+    int cause = -1;  // Identification::causes index
+    // The description file cannot hold what the cause found (why); the replays still apply it.
+    void unwritten(const std::string& reason);
+    int drive_of(int dof) const;  // the model drive on a coordinate, or -1
+    // The update of the cause's joint, the cause's name added to it; null,
+    // and the cause unwritten, when the joint is no CAD joint.
+    JointUpdate* joint(const SelectedCause& c);
+    // Takes the cause's name back from the joint: what it found cannot be written (why).
+    void refuse(JointUpdate& u, const std::string& reason);
+};
+
 // The extension by the first `count` causes of `id` (their parameters from
 // the final joint fit). `base_model` is the model built from `base`; `fit`
 // the rows the causes were identified on (their smoothing speeds).

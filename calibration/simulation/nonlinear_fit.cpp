@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "calibration/cause_table.h"
 #include "calibration/identification/closed_chain.h"
 #include "calibration/simulation/fit_scalar.h"
 #include "calibration/records/filters.h"
@@ -29,19 +30,15 @@ double scalar_of(double x) { return x; }
 template <class T, int N> double scalar_of(const ceres::Jet<T, N>& x) { return x.a; }
 
 std::vector<std::string> parameters_of(const Candidate& c) {
-    if (c.cause == "compliance") return {"stiffness", "damping", "motor_inertia"};
-    if (c.cause == "backlash") return {"width", "motor_inertia"};
-    return c.parameters;
+    const CauseKind& k = c.kind();
+    return k.subject == CauseSubject::Transmission ? k.parameters : c.parameters;
 }
 
 }  // namespace
 
 bool simulation_supports(const std::string& cause) {
-    static const char* known[] = {"viscous_friction", "coulomb_friction",   "effort_offset", "armature",
-                                  "position_dependent_effort", "actuator_gain", "delay", "mass_error", "compliance",
-                                  "backlash"};
-    for (const char* k : known)
-        if (cause == k) return true;
+    for (const CauseKind& k : cause_table())
+        if (cause == k.name) return k.simulated;
     return false;
 }
 
@@ -64,6 +61,7 @@ struct SimulationProblem::Impl {
     sim::Model model;
     SimulationFitOptions options;
     std::vector<CauseStart> causes;
+    std::vector<CauseId> causes_id;  // each cause's table entry
     std::vector<int> offset;  // first parameter of each cause
     int parameters = 0;
     std::vector<int> out_dof;       // measured coordinates (outputs), in order
@@ -121,7 +119,8 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
     for (size_t c = 0; c < causes.size(); ++c) {
         const Candidate& k = causes[c].candidate;
         const S* p = theta + offset[c];
-        if (k.cause == "mass_error") {
+        const CauseId id = causes_id[c];
+        if (id == CauseId::MassError) {
             S scale, shift[3], change[6];
             k.body_correction(p, scale, shift, change);
             sim::Inertia<S>& I = m.bodies[size_t(k.body)].inertia;
@@ -130,27 +129,28 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
         }
         sim::JointDynamicsT<S>& jd = m.joints[size_t(k.joint)].dynamics;
         const size_t dof = size_t(k.dof);
-        if (k.cause == "viscous_friction") {
+        // (What each cause adds to the model; the table's `simulated` says which are here.)
+        if (id == CauseId::ViscousFriction) {
             jd.damping += p[0];
             if (jd.asymmetric) jd.damping_negative += p[0];
-        } else if (k.cause == "coulomb_friction") {
+        } else if (id == CauseId::CoulombFriction) {
             if (!(scalar_of(jd.coulomb_velocity) > 0)) jd.coulomb_velocity = S(sign_speed[dof]);
             jd.coulomb += p[0];
             if (jd.asymmetric) jd.coulomb_negative += p[0];
-        } else if (k.cause == "effort_offset") {
+        } else if (id == CauseId::EffortOffset) {
             jd.offset += p[0];
-        } else if (k.cause == "armature") {
+        } else if (id == CauseId::Armature) {
             jd.armature += p[0];
-        } else if (k.cause == "position_dependent_effort") {
+        } else if (id == CauseId::PositionDependentEffort) {
             spring[dof] += p[0];
-        } else if (k.cause == "actuator_gain") {
+        } else if (id == CauseId::ActuatorGain) {
             gain[dof] *= S(1) - p[0];
-        } else if (k.cause == "delay") {
+        } else if (id == CauseId::Delay) {
             delay[dof] += p[0] / dt;
-        } else if (k.cause == "compliance") {
+        } else if (id == CauseId::Compliance) {
             elastic.push_back({k.dof, k.q_index, int(c)});
             elastic_p.push_back({p[0], p[1], p[2]});
-        } else if (k.cause == "backlash") {
+        } else if (id == CauseId::Backlash) {
             Elastic e{k.dof, k.q_index, int(c), true};
             // From the starting motor inertia: the stops are a fixed part of the law, not fitted.
             const double link = model.joints[size_t(k.joint)].reference_inertia, motor = causes[c].values[1];
@@ -369,15 +369,17 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
     for (const CauseStart& c : causes) {
         if (!simulation_supports(c.candidate.cause))
             refuse("the simulation fit cannot carry " + c.candidate.cause + " yet");
+        const CauseKind& kind = c.candidate.kind();
         const size_t np = parameters_of(c.candidate).size();
         if (c.values.size() != np)
             refuse(c.candidate.cause + " needs " + std::to_string(np) + " starting values, got " + std::to_string(c.values.size()));
-        if (c.candidate.cause == "mass_error" ? (c.candidate.body <= 0 || c.candidate.body >= m.body_count())
-                                              : (c.candidate.dof < 0 || c.candidate.dof >= m.nv))
+        if (kind.subject == CauseSubject::Body ? (c.candidate.body <= 0 || c.candidate.body >= m.body_count())
+                                               : (c.candidate.dof < 0 || c.candidate.dof >= m.nv))
             refuse(c.candidate.cause + " has no subject in the model");
-        if ((c.candidate.cause == "compliance" || c.candidate.cause == "backlash") && !m.closures.empty())
+        if (kind.elastic && !m.closures.empty())
             refuse(c.candidate.cause + " in a closed loop is not carried by the simulation fit (joint '" +
                    m.joints[size_t(c.candidate.joint)].name + "')");
+        P.causes_id.push_back(kind.id);
         P.offset.push_back(P.parameters);
         P.parameters += int(np);
     }
@@ -393,9 +395,8 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
     }
     if (P.out_dof.empty()) refuse(first.path + ": no measured position to compare the simulation with");
     for (const CauseStart& c : causes)
-        if (c.candidate.cause != "mass_error" &&
-            std::find(P.actuated.begin(), P.actuated.end(), c.candidate.dof) == P.actuated.end() &&
-            c.candidate.cause != "viscous_friction" && c.candidate.cause != "coulomb_friction")
+        if (c.candidate.kind().needs_effort &&
+            std::find(P.actuated.begin(), P.actuated.end(), c.candidate.dof) == P.actuated.end())
             refuse(c.candidate.cause + " on joint '" + m.joints[size_t(c.candidate.joint)].name + "', which has no recorded effort");
 
     // Coulomb's smoothing speed: 1 % of each coordinate's RMS speed, as the linear fit's column.
@@ -431,7 +432,7 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
 
     std::vector<int> elastic_dofs;
     for (const CauseStart& c : causes)
-        if (c.candidate.cause == "compliance" || c.candidate.cause == "backlash") elastic_dofs.push_back(c.candidate.dof);
+        if (c.candidate.kind().elastic) elastic_dofs.push_back(c.candidate.dof);
     struct Filtered {
         std::vector<double> effort, effort_rate, acc;
     };
@@ -557,26 +558,19 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
         else
             problem.AddResidualBlock(cost_of(&P, &P.windows[i]), nullptr, theta.data());
     }
-    // Physical bounds (the linear fit's, calibration/causes.cpp): dissipation,
+    // Physical bounds (the table's, calibration/cause_table.cpp): dissipation,
     // inertia and stiffness stay positive, a gain and a mass stay above a tenth.
     for (size_t c = 0; c < P.causes.size(); ++c) {
-        const std::string& cause = P.causes[c].candidate.cause;
-        const int o = P.offset[c];
-        if (cause == "viscous_friction" || cause == "coulomb_friction" || cause == "armature" || cause == "delay")
-            problem.SetParameterLowerBound(theta.data(), o, 0.0);
-        if (cause == "actuator_gain") problem.SetParameterUpperBound(theta.data(), o, 0.9);
-        if (cause == "mass_error")
-            for (size_t i = 0; i < P.causes[c].candidate.parameters.size(); ++i)
-                if (P.causes[c].candidate.parameters[i] == "mass_change")
-                    problem.SetParameterLowerBound(theta.data(), o + int(i), -0.9);
-        if (cause == "backlash") {
-            problem.SetParameterLowerBound(theta.data(), o, 0.0);
-            problem.SetParameterLowerBound(theta.data(), o + 1, 1e-3 * theta[size_t(o + 1)]);
-        }
-        if (cause == "compliance") {
-            problem.SetParameterLowerBound(theta.data(), o, 1e-3 * theta[size_t(o)]);
-            problem.SetParameterLowerBound(theta.data(), o + 1, 0.0);
-            problem.SetParameterLowerBound(theta.data(), o + 2, 1e-3 * theta[size_t(o + 2)]);
+        const Candidate& k = P.causes[c].candidate;
+        const auto bounds = k.kind().simulation_bounds;
+        if (!bounds) continue;
+        const size_t np = parameters_of(k).size();
+        for (size_t i = 0; i < np; ++i) {
+            const int at = P.offset[c] + int(i);
+            double lower = -INFINITY, upper = INFINITY;
+            bounds(k, i, theta[size_t(at)], lower, upper);
+            if (std::isfinite(lower)) problem.SetParameterLowerBound(theta.data(), at, lower);
+            if (std::isfinite(upper)) problem.SetParameterUpperBound(theta.data(), at, upper);
         }
     }
     if (P.options.hold_parameters) {
@@ -693,8 +687,8 @@ Identification add_transmissions(const sim::Model& m, const std::vector<const Re
         const SelectedCause& arm = linear.causes[a];
         // The motor's inertia is an armature to the rigid model, or an
         // actuator gain where the joint's effort is all inertia (a slide).
-        if (arm.candidate.cause != "armature" && arm.candidate.cause != "actuator_gain") continue;
-        const bool from_armature = arm.candidate.cause == "armature";
+        if (!arm.candidate.kind().rigid_motor) continue;
+        const bool from_armature = arm.candidate.kind().id == CauseId::Armature;
         const Candidate& where = arm.candidate;
         const std::string& name = m.joints[size_t(where.joint)].name;
         // The model with the linear causes, and with compliance in place of the armature.
@@ -706,8 +700,8 @@ Identification add_transmissions(const sim::Model& m, const std::vector<const Re
             if (!(c.candidate.cause == arm.candidate.cause && c.candidate.joint == where.joint)) with.push_back({c.candidate, v});
         }
         Candidate k = where;
-        k.cause = "compliance";
-        k.parameters = {"stiffness", "damping", "motor_inertia"};
+        k.cause = cause_name(CauseId::Compliance);
+        k.parameters = cause_table()[size_t(CauseId::Compliance)].parameters;
         const double link = m.joints[size_t(where.joint)].reference_inertia;
         if (!(link > 0)) continue;
         const double motor = from_armature ? std::max(arm.parameters[0].value, 1e-3 * link) : 0.3 * link;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "calibration/cause_table.h"
 #include "core/finding.h"
 
 namespace mbx::calibration {
@@ -14,7 +15,7 @@ namespace {
 std::vector<std::string> candidate_joints(const sim::Model& m, const Identification& id) {
     std::vector<std::string> out;
     for (const SelectedCause& c : id.causes)
-        if ((c.candidate.cause == "armature" || c.candidate.cause == "actuator_gain") && c.candidate.joint >= 0)
+        if (c.candidate.kind().rigid_motor && c.candidate.joint >= 0)
             out.push_back("'" + m.joints[size_t(c.candidate.joint)].name + "'");
     return out;
 }
@@ -61,7 +62,7 @@ Identification add_backlash(const sim::Model& m, const std::vector<const Record*
     std::vector<CauseStart> reference = base;
     if (reference.empty()) {
         Candidate none;
-        none.cause = "viscous_friction", none.joint = m.dof_joint[size_t(actuated.front())];
+        none.cause = cause_name(CauseId::ViscousFriction), none.joint = m.dof_joint[size_t(actuated.front())];
         none.dof = actuated.front(), none.q_index = m.joints[size_t(none.joint)].q_index;
         none.parameters = {"damping"};
         reference.push_back({none, {0.0}});
@@ -87,8 +88,8 @@ Identification add_backlash(const sim::Model& m, const std::vector<const Record*
         const double link = joint.reference_inertia;
         if (!(link > 0)) continue;
         Candidate k;
-        k.cause = "backlash", k.joint = j, k.dof = dof, k.q_index = joint.q_index;
-        k.parameters = {"width", "motor_inertia"};
+        k.cause = cause_name(CauseId::Backlash), k.joint = j, k.dof = dof, k.q_index = joint.q_index;
+        k.parameters = cause_table()[size_t(CauseId::Backlash)].parameters;
         const double motor = 0.3 * link;
         // Widths: a few tenths of a degree to a few degrees (a tenth of a millimetre to a few on a slide).
         const double unit = joint.kind == sim::JointKind::Prismatic ? 1e-3 : M_PI / 180;
@@ -257,10 +258,10 @@ Identification transmission_stage(const sim::Model& m, const std::vector<const R
     // The compliance's inverse-dynamics figures: its rigid limit is the
     // armature (or gain) it replaced, so those of that step.
     for (SelectedCause& c : staged.causes) {
-        if (c.candidate.cause != "compliance") continue;
+        if (c.candidate.kind().id != CauseId::Compliance) continue;
         for (const SelectedCause& was : linear.causes)
             if (was.candidate.joint == c.candidate.joint &&
-                (was.candidate.cause == "armature" || was.candidate.cause == "actuator_gain")) {
+                was.candidate.kind().rigid_motor) {
                 c.fit_error = was.fit_error;
                 c.validation_error = was.validation_error;
                 c.validation_gain = was.validation_gain;
