@@ -3,7 +3,8 @@
 # ASan+UBSan and coverage, .ci/configure; the sanitizer suite's build, so after
 # `.ci/test --sanitize` only the fuzz executables are linked) and runs each on
 # the committed corpus for a short while: what CI does. The
-# corpus in fuzz/corpus/ is only read; new inputs go to a scratch folder.
+# corpus in fuzz/corpus/ is only read; new inputs go to a scratch folder. The
+# targets run side by side, one per core.
 #   fuzz/run_corpus.sh                 every target, 30 s each
 #   fuzz/run_corpus.sh 600 vrml csv    chosen targets, 10 min each
 # A crash, leak, timeout or out-of-memory stops with the input saved under
@@ -23,23 +24,36 @@ cmake --build "$dir" -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}")
 mkdir -p "$out"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
-for t in "${targets[@]}"; do
-  dict=()
+# One target on its corpus; its log and exit status go to the scratch folder.
+run_target() {
+  local t=$1 dict=() status=0
   case $t in
     vrml) dict=(-dict=fuzz/dict/vrml.dict) ;;
     pmxml | object_library | drive_file | experiment) dict=(-dict=fuzz/dict/xml.dict) ;;
   esac
   mkdir -p "$scratch/$t"
-  echo "== fuzz_$t: ${seconds} s"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: libFuzzer's
   # default, stated so the figures in docs/fuzzing.md say what they were run with.
-  status=0
   "$dir/bin/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$out/fuzz_${t}-" "${dict[@]}" "$scratch/$t" "fuzz/corpus/$t" >"$scratch/$t.log" 2>&1 || status=$?
+  echo "$status" >"$scratch/$t.status"
+}
+# Each target is one single-threaded process: as many run at once as there are
+# cores, each for the whole of its seconds.
+for t in "${targets[@]}"; do
+  while (($(jobs -rp | wc -l) >= $(nproc))); do wait -n || true; done
+  run_target "$t" &
+done
+wait
+failed=0
+for t in "${targets[@]}"; do
+  echo "== fuzz_$t: ${seconds} s"
   grep -E '^#[0-9]+[[:space:]]+(INITED|DONE)|^stat::(number_of_executed_units|peak_rss_mb)|^Done ' "$scratch/$t.log" || true
+  status=$(cat "$scratch/$t.status" 2>/dev/null || echo 1)
   if ((status)); then
     tail -n 80 "$scratch/$t.log" >&2
     echo "fuzz_$t failed (status $status); the input is in $out" >&2
-    exit 1
+    failed=1
   fi
 done
+exit $failed

@@ -10,6 +10,7 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+namespace MBX_UNITY_ID {
 
 namespace {
 
@@ -80,3 +81,4 @@ TEST_CASE("cli calibrate: usage errors and bad experiments exit non-zero and wri
     CHECK(r.err.find("no drive") != std::string::npos);
     CHECK(!std::filesystem::exists(out));
 }
+}  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+namespace MBX_UNITY_ID {
 
 namespace {
 
@@ -62,3 +63,4 @@ TEST_CASE("cli simulate: the EMPS carriage runs into a wall of the description f
         CHECK(std::abs(qd) < 1e-6);
     }
 }
+}  // namespace MBX_UNITY_ID

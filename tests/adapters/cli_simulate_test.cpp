@@ -12,6 +12,7 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+namespace MBX_UNITY_ID {
 
 namespace {
 
@@ -150,3 +151,4 @@ TEST_CASE("cli: joint dynamics of a description file reach the report, the MJCF 
     REQUIRE(a > 0);
     CHECK(c.rows.back()[size_t(a)] > 1e-5);
 }
+}  // namespace MBX_UNITY_ID

@@ -10,6 +10,7 @@
 #include "cli_support.h"
 #include "stl_text.h"
 #include "tiny_pmxml.h"
+namespace MBX_UNITY_ID {
 
 namespace {
 
@@ -159,3 +160,4 @@ TEST_CASE("cli: --drives exports the arm with its drives in every format; a bad 
     CHECK(misfit.err.find(dir.file("misfit.xml") + ":3: 99:-:98: no constraint with id '99:-:98'") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir.file("out3/report.json")));
 }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 #include "stl_text.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::FileAdapter;
 using mbx_files::FileAdapterOptions;
@@ -271,3 +272,4 @@ TEST_CASE("adapter: VRML shapes attach to bodies by pose; own mesh files win") {
     CHECK(t.count("vrml_unmatched_shape") == 1);
     CHECK(t.mesh_total() == 2);
 }
+}  // namespace MBX_UNITY_ID

@@ -18,6 +18,7 @@
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::FileAdapter;
 
@@ -174,3 +175,4 @@ TEST_CASE("late mesh failure: a mesh that passes the probe and breaks at load is
     CHECK(atest::read_file((out.path / "report.json").string()).find("\"mesh_file_unreadable\"") != std::string::npos);
     CHECK(adapter->late_diagnostics().size() == 1);
 }
+}  // namespace MBX_UNITY_ID

@@ -7,6 +7,7 @@
 #include "adapter_test_support.h"
 #include "host_adapters/common/mesh_file.h"
 #include "stl_text.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::load_mesh_file;
 using mbx_files::MeshFileFinder;
@@ -105,3 +106,4 @@ TEST_CASE("mesh files: loaded as is, corners welded so the box is closed") {
     CHECK(error.find("no triangles") != std::string::npos);
     CHECK_FALSE(load_mesh_file(d.file("missing.stl"), mesh, error));
 }
+}  // namespace MBX_UNITY_ID

@@ -16,6 +16,7 @@
 #include "host_adapters/pmxml_vrml/pmxml_outline.h"
 #include "host_adapters/pmxml_vrml/pmxml_reader.h"
 #include "tiny_pmxml.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx_files;
 
@@ -182,3 +183,4 @@ TEST_CASE("pmxml outline: the elements around the parts, and parts as whole span
     CHECK_FALSE(outline_pmxml("x" + text.substr(text.find("<R")), o));
     CHECK_FALSE(outline_pmxml(atest::replace_once(text, "</M>", "</N>"), o));
 }
+}  // namespace MBX_UNITY_ID

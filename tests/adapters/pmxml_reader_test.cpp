@@ -9,6 +9,7 @@
 #include "host_adapters/pmxml_vrml/pmxml_assembly.h"
 #include "host_adapters/pmxml_vrml/pmxml_reader.h"
 #include "tiny_pmxml.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx_files;
 using atest::line_of;
@@ -474,3 +475,4 @@ TEST_CASE("pmxml fuzz: random mutations end in a model or a FileError with a lin
     MESSAGE(parsed << " mutants parsed, " << errors << " refused");
     CHECK(errors > 0);
 }
+}  // namespace MBX_UNITY_ID

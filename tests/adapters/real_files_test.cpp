@@ -14,6 +14,7 @@
 #include "adapter_test_support.h"
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "translation_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::FileAdapter;
 using mbx_files::FileAdapterOptions;
@@ -304,3 +305,4 @@ TEST_CASE("real files: translating twice gives byte-identical reports") {
         CHECK(first == atest::read_file(dir.file(std::string("run1/") + name)));
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -6,6 +6,7 @@
 
 #include "host_adapters/common/numbers.h"
 #include "host_adapters/common/units.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::parse_number;
 using mbx_files::parse_number_list;
@@ -106,3 +107,4 @@ TEST_CASE("numbers: a German locale does not change how numbers read") {
     CHECK(unit_to_si("mm", Quantity::length) == 0.001);
     std::setlocale(LC_ALL, saved.c_str());
 }
+}  // namespace MBX_UNITY_ID

@@ -21,6 +21,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -481,3 +482,4 @@ TEST_CASE("body quantities: the start velocities estimated from the tracked pose
     CHECK(std::sqrt(dv / nv) < 0.05);
     CHECK(std::sqrt(dw / nw) < 0.08);
 }
+}  // namespace MBX_UNITY_ID

@@ -21,6 +21,7 @@
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -499,3 +500,4 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
     }
     CHECK(k == r.final_step().simulated.size());
 }
+}  // namespace MBX_UNITY_ID

@@ -18,6 +18,7 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -197,3 +198,4 @@ TEST_CASE("calibration: a cause's extension changes the model as the cause says,
     CHECK(first.unwritten.empty());
     CHECK(first.adjust.sensor_offset[size_t(dof)] == 0);
 }
+}  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 #include "hidden_effects.h"
 #include "core/mechatronics/drive_file.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -86,3 +87,4 @@ TEST_CASE("calibration: a centre of mass moved, written as com_shift and fed bac
     CHECK(found.com_shift.z() == doctest::Approx(0.04).epsilon(0.05));
     CHECK(found.com_shift.y() == 0);  // along the joints' axis: no record sees it
 }
+}  // namespace MBX_UNITY_ID

@@ -10,6 +10,7 @@
 #include "calibration/calibrate.h"
 #include "tests/export/drives_support.h"
 #include "tests/export/export_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -80,3 +81,4 @@ TEST_CASE("calibration: EMPS closed-loop replay before and after calibration") {
     CHECK(after < 0.05 * before);
     MESSAGE("wall time " << r.wall_time << " s");
 }
+}  // namespace MBX_UNITY_ID

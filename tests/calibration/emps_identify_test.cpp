@@ -12,6 +12,7 @@
 #include "tests/export/drives_support.h"
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -67,3 +68,4 @@ TEST_CASE("calibration: EMPS inverse-dynamics identification names friction and 
     MESSAGE(names << "Fv " << viscous->parameters[0].value << " Fc " << coulomb->parameters[0].value << " off " << offset->parameters[0].value << "; " << id.baseline_fit_error << "/" << id.baseline_validation_error << " -> " << id.final_fit_error << "/" << id.final_validation_error);
     CHECK(viscous->parameters[0].std_error < 0.05 * viscous->parameters[0].value);
 }
+}  // namespace MBX_UNITY_ID

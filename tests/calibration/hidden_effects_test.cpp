@@ -23,6 +23,7 @@
 #include "sim/loop_closure.h"
 #include "sim/simulation.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using mbx_test::CaseSpec;
@@ -583,3 +584,4 @@ TEST_CASE("hidden effects: the suite's size, spread and generation time") {
         for (const auto& h : c.hidden) CHECK((!h.joint_id.empty() || !h.body_id.empty()));
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -23,6 +23,7 @@
 #include "sim/simulation.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -356,3 +357,4 @@ TEST_CASE("calibration: closed-chain rows refuse records that do not fix the loo
     CHECK_THROWS_WITH_AS(regression_rows(model, {&r}, IdentifyOptions()),
                          doctest::Contains("has a measured effort but no measured position"), Error);
 }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 
 #include "calibration/records/records.h"
 #include "core/finding.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx::calibration;
 
@@ -40,3 +41,4 @@ TEST_CASE("read_csv_text reads what read_csv reads from the file, errors naming 
     }
     CHECK_THROWS_AS(read_csv_text("", "empty.csv"), mbx::Error);
 }
+}  // namespace MBX_UNITY_ID

@@ -15,6 +15,7 @@
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -184,3 +185,4 @@ TEST_CASE("calibration replay: what a mode cannot compare is refused with the fi
         CHECK_THROWS_WITH_AS(compared_signals(e, model), doctest::Contains("/x/exp.xml:7: no joint 'nowhere'"), Error);
     }
 }
+}  // namespace MBX_UNITY_ID

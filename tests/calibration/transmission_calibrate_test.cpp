@@ -17,6 +17,7 @@
 #include "sim/resolved_joint_dynamics.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::calibration;
@@ -145,3 +146,4 @@ TEST_CASE("calibration: a named backlash becomes the joint's <transmission backl
     CHECK(spec.joint_dynamics[0].transmission->motor_inertia == 0.007);
     CHECK(text.find("<transmission motor_inertia=\"0.007\" backlash=\"0.02\"/>") != std::string::npos);
 }
+}  // namespace MBX_UNITY_ID

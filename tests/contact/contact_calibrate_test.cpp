@@ -15,6 +15,7 @@
 #include "cube_tosses.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx_test;
@@ -241,3 +242,4 @@ TEST_CASE("contact stage: description.xml gets the named causes only, a restitut
     CHECK_THROWS_WITH_AS(calibration::write_contact_update(bare.child("mechatronics"), c, "bare.xml"),
                          doctest::Contains("no <collision body=\"world\" shape=\"plane\">"), Error);
 }
+}  // namespace MBX_UNITY_ID

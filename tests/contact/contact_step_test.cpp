@@ -14,6 +14,7 @@
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
 #include "sim/dynamics.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::sim::contact;
@@ -321,3 +322,4 @@ TEST_CASE("contact: the same drop under RK4 and the accurate mode, whose steps s
         CHECK(apex / h0 == doctest::Approx(e * e).epsilon(0.02).scale(0));
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -7,6 +7,7 @@
 
 #include "core/finding.h"
 #include "sim/contact/convex_hull.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx::sim::contact;
 
@@ -77,3 +78,4 @@ TEST_CASE("convex hull: a box mesh's corners, and degenerate clouds refused with
     refuses({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, "one line");
     refuses({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, NAN}}, "not finite");
 }
+}  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 #include "core/finding.h"
 #include "cube_tosses.h"
 #include "tests/common/slow_build.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx_test;
@@ -148,3 +149,4 @@ TEST_CASE("contact calibration: refuses what it cannot fit") {
     CHECK_THROWS_WITH_AS(calibration::fit_contact(cube.scene, wild, one, one, options),
                          doctest::Contains("diverge"), Error);
 }
+}  // namespace MBX_UNITY_ID

@@ -10,6 +10,7 @@
 #include <doctest/doctest.h>
 
 #include "cube_tosses.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::sim::contact;
@@ -72,3 +73,4 @@ TEST_CASE("contact: the ContactNets cube tosses rolled out by mbx and by MuJoCo,
     // With the authors' nominal parameters, mbx is no worse than MuJoCo's default contact.
     CHECK(mbx_sum.position <= def_sum.position * 1.1);
 }
+}  // namespace MBX_UNITY_ID

@@ -21,6 +21,7 @@
 #include "sim/contact/convex_hull.h"
 #include "sim/contact/detection.h"
 #include "sim/dynamics.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::sim::contact;
@@ -369,3 +370,4 @@ TEST_CASE("default hulls: shapes overlapping at the reference pose never collide
     plain.detect(reference, contacts);
     CHECK(!contacts.empty());
 }
+}  // namespace MBX_UNITY_ID

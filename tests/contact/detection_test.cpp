@@ -11,6 +11,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/detection.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx::sim::contact;
@@ -192,3 +193,4 @@ TEST_CASE("contact detection: random box and convex pairs never throw, normals a
     CHECK(flipped == 0);
     CHECK(touching > kPairs / 10);
 }
+}  // namespace MBX_UNITY_ID

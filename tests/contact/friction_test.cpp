@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sim/contact/friction.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx::sim::contact;
 
@@ -76,3 +77,4 @@ TEST_CASE("contact friction: the friction spring holds below mu_s N, the regular
     CHECK(f.norm() == 0);  // anchored where it touched again: no stretch
     CHECK((next.anchor - Eigen::Vector3d(0.2, 0, 0)).norm() == 0);
 }
+}  // namespace MBX_UNITY_ID

@@ -10,6 +10,7 @@
 
 #include "core/finding.h"
 #include "sim/contact/normal_force.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx::sim::contact;
 
@@ -58,3 +59,4 @@ TEST_CASE("contact normal force: laws, restitution and the damping for a restitu
     CHECK_THROWS_AS(damping_for_restitution(hc, 0.37, 1.7, NAN), mbx::Error);
     CHECK_THROWS_AS(damping_for_restitution(hc, -1, 1.7, 0.5), mbx::Error);
 }
+}  // namespace MBX_UNITY_ID

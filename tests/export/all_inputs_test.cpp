@@ -14,6 +14,7 @@
 #include "export_fixture.h"
 #include "tests/common/file_text.h"
 #include "test_inputs.h"
+namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;
 
@@ -103,3 +104,4 @@ void check_input(const Input& input) {
 TEST_CASE("all inputs: built-ins, samples and real PMXML export to every format and load in MuJoCo and urdfdom") {
     for (const Input& input : all_inputs()) check_input(input);
 }
+}  // namespace MBX_UNITY_ID

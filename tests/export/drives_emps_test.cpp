@@ -14,6 +14,7 @@
 #include "core/mechatronics/drive_controller.h"
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using mbx_test::EmpsRecord;
@@ -115,3 +116,4 @@ TEST_CASE("drives: the EMPS axis built from CAD and library data reproduces the 
     CHECK(without.position_error < 0.5);
     CHECK(without.force_error > 3 * with.force_error);
 }
+}  // namespace MBX_UNITY_ID

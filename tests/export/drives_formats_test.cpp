@@ -13,6 +13,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -166,3 +167,4 @@ TEST_CASE("drives: a changed and re-exported CAD model keeps its drives on the s
     // Reversing the file really did reorder the joints the drives land on.
     CHECK(some_joint_moved);
 }
+}  // namespace MBX_UNITY_ID

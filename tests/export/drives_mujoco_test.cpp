@@ -15,6 +15,7 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -184,3 +185,4 @@ TEST_CASE("drives: MJCF joints carry the drive's armature and back-EMF damping, 
         CHECK(model->actuator_trnid[2 * aid] == jid);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -18,6 +18,7 @@
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -195,3 +196,4 @@ TEST_CASE("joint dynamics extra: Modelica holds the offset and asymmetric Coulom
     CHECK(rows[11].second == doctest::Approx(0.1).epsilon(1e-15));
     CHECK(rows[12].second == doctest::Approx(0.1).epsilon(1e-15));
 }
+}  // namespace MBX_UNITY_ID

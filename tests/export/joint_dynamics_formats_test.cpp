@@ -13,6 +13,7 @@
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -334,3 +335,4 @@ TEST_CASE("joint dynamics: the damped pendulum in MuJoCo decays at b / (2 I) and
     CHECK(measured_rate == doctest::Approx(rate).epsilon(1e-4));
     CHECK(measured_period == doctest::Approx(2 * kPi / omega_d).epsilon(1e-4));
 }
+}  // namespace MBX_UNITY_ID

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "export_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -35,3 +36,4 @@ TEST_CASE("forward kinematics: a revolute turns its child about the CAD axis thr
         CHECK((after.position - (r * (before.position - p) + p)).norm() < 1e-12);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -14,6 +14,7 @@
 #include "export_fixture.h"
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -143,3 +144,4 @@ TEST_CASE("mesh files: ergoCub gives one STL per body with geometry, triangles s
 
     MESSAGE("ergoCub: " << with_geometry << " mesh files, " << merged << " bodies merged from 2+ meshed parts");
 }
+}  // namespace MBX_UNITY_ID

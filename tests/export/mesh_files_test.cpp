@@ -12,6 +12,7 @@
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 #include "tests/common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using xmesh::Box;
@@ -260,3 +261,4 @@ TEST_CASE("mesh files: concurrent encodes (one assimp Exporter each) give the si
     for (std::thread& th : threads) th.join();
     for (size_t i = 0; i < results.size(); ++i) CHECK(results[i] == reference[i % 3]);
 }
+}  // namespace MBX_UNITY_ID

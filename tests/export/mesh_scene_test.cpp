@@ -5,6 +5,7 @@
 #include "export_fixture.h"
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -112,3 +113,4 @@ TEST_CASE("mesh scene: poses within assimp's 0.01 identity tolerance keep their 
         CHECK((got.position - m.bodies[size_t(b)].pose.position).cwiseAbs().maxCoeff() < 1e-7);
     }
 }
+}  // namespace MBX_UNITY_ID

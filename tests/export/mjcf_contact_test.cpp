@@ -17,6 +17,7 @@
 #include "export/mjcf/mjcf_contact.h"
 #include "mujoco_helpers.h"
 #include "../../sim/contact/parameter_conversion.h"
+namespace MBX_UNITY_ID {
 
 namespace {
 
@@ -280,3 +281,4 @@ TEST_CASE("MJCF contact: ergoCub's default hulls collide in MuJoCo, except the p
     mj_deleteData(bd);
     mj_deleteModel(bare);
 }
+}  // namespace MBX_UNITY_ID

@@ -7,6 +7,7 @@
 #include "export/mjcf/mjcf_defaults.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -333,3 +334,4 @@ TEST_CASE("MJCF: cut joints become connects, welds or a helper slider, each note
         CHECK(noted);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -11,6 +11,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -165,3 +166,4 @@ TEST_CASE("MJCF: a model with more loop rows than MuJoCo's default reserves enou
     CHECK(run.data->nefc <= run.model->njmax);
     CHECK(run.data->nefc > 500);
 }
+}  // namespace MBX_UNITY_ID

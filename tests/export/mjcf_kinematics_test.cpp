@@ -8,6 +8,7 @@
 #include "export/common/names.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -273,3 +274,4 @@ TEST_CASE("MJCF: every mesh geom sits on its own body, is visual only and leaves
                 CHECK(model->body_mass[run.body_id(int(b))] == doctest::Approx(m.bodies[b].mass).epsilon(1e-12));
     }
 }
+}  // namespace MBX_UNITY_ID

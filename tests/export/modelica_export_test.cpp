@@ -12,6 +12,7 @@
 #include "export/modelica/modelica_text.h"
 #include "modelica_support.h"
 #include "tests/common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 namespace fs = std::filesystem;
@@ -471,3 +472,4 @@ TEST_CASE("modelica checker: rejects what a Modelica tool would reject") {
     // frame_b of f is turned +90 degrees about z: its x axis is the world's y.
     CHECK((poses.pose.at("g.frame_b").position - Vec3(1, 3, 3)).norm() < 1e-15);
 }
+}  // namespace MBX_UNITY_ID

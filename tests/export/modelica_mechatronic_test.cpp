@@ -17,6 +17,7 @@
 #include "export/modelica/mechanics_writer.h"
 #include "export/modelica/mechatronic_writer.h"
 #include "modelica_support.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -1001,3 +1002,4 @@ TEST_CASE("modelica checker: signal, block and algorithm flaws are reported") {
     CHECK(all.find("connect(b.y, inertia.flange_a) joins different connector kinds") != std::string::npos);
     CHECK(all.find("table") == std::string::npos);  // CombiTimeTable (mis-filed in the index) is known
 }
+}  // namespace MBX_UNITY_ID

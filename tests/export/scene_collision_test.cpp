@@ -15,6 +15,7 @@
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 #include "sim/contact/convex_hull.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -156,3 +157,4 @@ TEST_CASE("scene collision: a node per shape under its body, at the shape's pose
         }
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -10,6 +10,7 @@
 #include "core/mechatronics/contact_description.h"
 #include "mesh_readback.h"
 #include "urdf_consumer.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -153,3 +154,4 @@ TEST_CASE("urdf collision: each shape's geometry, and its origin placing it on i
         }
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "urdf_consumer.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace urdf_test;
@@ -83,3 +84,4 @@ TEST_CASE("urdf: both legs mechanisms") {
         check_urdf(*t, 31, 3);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 
 #include "apps/stub_host/assemblies/builder.h"
 #include "urdf_consumer.h"
+namespace MBX_UNITY_ID {
 
 using namespace urdf_test;
 using nlohmann::json;
@@ -330,3 +331,4 @@ TEST_CASE("urdf: rpy extraction round-trips through urdfdom, also at gimbal lock
         CHECK((rpy_rotation(rpy.x(), rpy.y(), rpy.z()) - r).norm() < 1e-12);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -14,6 +14,7 @@
 #include "apps/stub_host/assemblies/builder.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -196,3 +197,4 @@ TEST_CASE("body correction API: refusals name the body") {
     CHECK(info.subject_kind == MBX_SUBJECT_BODY);
     CHECK(link_body(run).mass == doctest::Approx(kMass));  // nothing attached
 }
+}  // namespace MBX_UNITY_ID

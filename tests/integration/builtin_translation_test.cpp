@@ -10,6 +10,7 @@
 #include "support/expected_builtins.h"
 #include "support/plugin_fixture.h"
 #include "support/stub_geometry.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -210,3 +211,4 @@ TEST_CASE("builtins: every rigid body carries the compound mass of its parts") {
         }
     }
 }
+}  // namespace MBX_UNITY_ID

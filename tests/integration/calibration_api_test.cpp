@@ -19,6 +19,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 namespace fs = std::filesystem;
@@ -244,3 +245,4 @@ TEST_CASE("calibration api: a description's <body mass_scale> corrects the attac
     CHECK(message.find("no_such_part") != std::string::npos);
     CHECK(rigid_body(e->mechanism.get(), carriage).mass == cad.mass);
 }
+}  // namespace MBX_UNITY_ID

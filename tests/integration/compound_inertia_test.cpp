@@ -7,6 +7,7 @@
 
 #include "support/plugin_fixture.h"
 #include "support/stub_geometry.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -92,3 +93,4 @@ TEST_CASE("fourbar: millimetres and grams arrive as metres and kilograms") {
     // Ground link, RootPart (massless helper) and ground merge into the ground body.
     CHECK(find_part(r.get(), "fourbar/RootPart") == 0);
 }
+}  // namespace MBX_UNITY_ID

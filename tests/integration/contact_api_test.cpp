@@ -16,6 +16,7 @@
 #include "apps/stub_host/assemblies/builder.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -385,3 +386,4 @@ TEST_CASE("contact API: a failed run leaves the contact as it was (the friction 
     CHECK(std::abs(qb[0]) < 1e-9);
     for (int i = 0; i < 7; ++i) CHECK(qa[i] == qb[i]);
 }
+}  // namespace MBX_UNITY_ID

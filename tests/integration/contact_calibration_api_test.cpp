@@ -17,6 +17,7 @@
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
 #include "../common/slow_build.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 using namespace mbx_stub::build;
@@ -160,3 +161,4 @@ TEST_CASE("contact calibration api: tosses in an experiment file name friction, 
     CHECK(std::abs(again.summary.baseline_simulated_validation_error / first.summary.final_simulated_validation_error - 1) < 1e-6);
     CHECK(std::abs(again.summary.baseline_simulated_fit_error / first.summary.final_simulated_fit_error - 1) < 1e-6);
 }
+}  // namespace MBX_UNITY_ID

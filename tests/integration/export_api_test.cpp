@@ -14,6 +14,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 namespace fs = std::filesystem;
@@ -189,3 +190,4 @@ TEST_CASE("export api: mesh_format picks the meshes/ files; MJCF and URDF still 
         CHECK(exts == expected);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "support/plugin_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -88,3 +89,4 @@ TEST_CASE("exports: the shared library exports only mbx_ symbols") {
     }
     CHECK(from_nm == names);
 }
+}  // namespace MBX_UNITY_ID

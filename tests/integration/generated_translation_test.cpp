@@ -7,6 +7,7 @@
 
 #include "support/fingerprint.h"
 #include "support/plugin_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -62,3 +63,4 @@ TEST_CASE("generated: translating the same assembly twice gives the same mechani
     REQUIRE(two.status == MBX_OK);
     CHECK(fingerprint(one.get()) == fingerprint(two.get()));
 }
+}  // namespace MBX_UNITY_ID

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "support/plugin_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -148,3 +149,4 @@ TEST_CASE("cancel: a builtin can be cancelled at its first progress call") {
     CHECK(status == MBX_ERROR_CANCELLED);
     CHECK(m == nullptr);
 }
+}  // namespace MBX_UNITY_ID

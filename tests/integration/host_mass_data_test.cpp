@@ -10,6 +10,7 @@
 #include "../common/file_text.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -107,3 +108,4 @@ TEST_CASE("host mass data: a stated assembly mass 50 % above the parts' sum is n
     const uint32_t v3_size = uint32_t(offsetof(mbx_host, get_diagnostic) + sizeof(void*));
     CHECK(findings(Translated(a, v3_size).mech.get(), MBX_FINDING_ASSEMBLY_MASS_MISMATCH).empty());
 }
+}  // namespace MBX_UNITY_ID

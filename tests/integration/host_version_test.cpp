@@ -8,6 +8,7 @@
 
 #include "support/fingerprint.h"
 #include "support/plugin_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -84,3 +85,4 @@ TEST_CASE("host versions: the plugin serves a table at least as new as the heade
     CHECK(std::string(a.version()) == MBX_VERSION_STRING);
     CHECK(std::string(a.status_name(MBX_ERROR_IO)) == "MBX_ERROR_IO");
 }
+}  // namespace MBX_UNITY_ID

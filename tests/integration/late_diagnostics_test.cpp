@@ -12,6 +12,7 @@
 #include "../common/file_text.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -190,3 +191,4 @@ TEST_CASE("late host diagnostics: what the host appended before failing get_shap
     CHECK(found == 1);
     CHECK(summary(mech.get()).error_count >= 1);
 }
+}  // namespace MBX_UNITY_ID

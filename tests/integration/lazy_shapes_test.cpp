@@ -10,6 +10,7 @@
 
 #include "support/plugin_fixture.h"
 #include "support/stub_geometry.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -144,3 +145,4 @@ TEST_CASE("lazy shapes: after release_host shape requests fail and never reach t
     // Out-of-range index is an argument error, not a crash.
     CHECK(api().mechanism_get_shape_stats(r.context.get(), m, 999, &s) == MBX_ERROR_INVALID_ARGUMENT);
 }
+}  // namespace MBX_UNITY_ID

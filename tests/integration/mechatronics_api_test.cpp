@@ -27,6 +27,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 namespace fs = std::filesystem;
@@ -1500,3 +1501,4 @@ TEST_CASE("mechatronics api: drives from a file that do not fit name the file, l
     CHECK(e.line == line_of(text, "<drive name=\"waist\""));
     CHECK(api().mechanism_drive_count(r.get()) == 0);
 }
+}  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 #include "support/temp_dir.h"
 #include "support/plugin_fixture.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 namespace fs = std::filesystem;
@@ -79,3 +80,4 @@ TEST_CASE("report: an unwritable destination is MBX_ERROR_IO and leaves nothing 
     CHECK(write_report("fourbar", blocker / "below") == MBX_ERROR_IO);
     CHECK(entries(dir.path) == std::vector<std::string>{"not_a_directory"});
 }
+}  // namespace MBX_UNITY_ID

@@ -16,6 +16,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 namespace fs = std::filesystem;
@@ -414,3 +415,4 @@ TEST_CASE("sim API: a described elastic transmission's motor follows the state t
     REQUIRE(a.sim_forward_dynamics(ctx, s.data, &qacc) == MBX_OK);
     CHECK(std::fabs(qacc) < 1e-9);
 }
+}  // namespace MBX_UNITY_ID

@@ -11,6 +11,7 @@
 #include "support/expected_builtins.h"
 #include "support/screw_mobility.h"
 #include "support/stub_geometry.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 using mbx_stub::Assembly;
@@ -237,3 +238,4 @@ TEST_CASE("stub: the generator is deterministic and seed-dependent") {
     REQUIRE(mbx_stub::builtin_assembly("double_cardan", y));
     CHECK(serialize(x) == serialize(y));
 }
+}  // namespace MBX_UNITY_ID

@@ -16,6 +16,7 @@
 
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;
 
@@ -112,3 +113,4 @@ TEST_CASE("stub host process: bad usage and a missing plugin exit with status 2"
     const int status = std::system(command.c_str());
     CHECK((WIFEXITED(status) && WEXITSTATUS(status) == 2));
 }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/stub_host/assemblies/stub_assembly.h"
+namespace MBX_UNITY_ID {
 
 namespace {
 
@@ -167,3 +168,4 @@ TEST_CASE("stub host: the version-1 table is exactly the version-1 prefix") {
     CHECK(bool(v1->get_shapes == v2->get_shapes));
     CHECK_FALSE(MBX_FIELD_FITS(v1, mbx_host, describe_assembly));
 }
+}  // namespace MBX_UNITY_ID

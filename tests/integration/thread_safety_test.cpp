@@ -10,6 +10,7 @@
 
 #include "support/fingerprint.h"
 #include "support/plugin_fixture.h"
+namespace MBX_UNITY_ID {
 
 using namespace itest;
 
@@ -71,3 +72,4 @@ TEST_CASE("threads: four contexts translating concurrently give the single-threa
     for (const auto& w : first_difference) where += w;
     CHECK_MESSAGE(mismatches.load() == 0, "first difference: " << where);
 }
+}  // namespace MBX_UNITY_ID

@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include "scene_builder.h"
+namespace MBX_UNITY_ID {
 
 using namespace matching_test;
 using Eigen::Matrix3d;
@@ -69,3 +70,4 @@ TEST_CASE("a 100k-node scene matches in near-linear time") {
     // The shape's origin sits 30 mm along its body's x.
     CHECK((first_vertex(r.meshes[123]) - Vector3d(0.03, 0, 0)).norm() < 1e-9);
 }
+}  // namespace MBX_UNITY_ID

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include "scene_builder.h"
+namespace MBX_UNITY_ID {
 
 using namespace matching_test;
 using mbx_files::BodyPose;
@@ -352,3 +353,4 @@ TEST_CASE("empty and degenerate input") {
     CHECK(r.issues.empty());
     CHECK(r.matched_nodes == 0);
 }
+}  // namespace MBX_UNITY_ID

@@ -13,6 +13,7 @@
 #include "samples/tools/generate_pmxml.h"
 #include "temp_dir.h"
 #include "translation.h"
+namespace MBX_UNITY_ID {
 
 using namespace samples_test;
 
@@ -103,3 +104,4 @@ TEST_CASE("the generator's output depends on the seed only") {
     CHECK(read_all(first.xml_path) != read_all(other.xml_path));
     CHECK(first.parts == other.parts);
 }
+}  // namespace MBX_UNITY_ID

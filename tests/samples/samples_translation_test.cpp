@@ -9,6 +9,7 @@
 #include "sample_expectations.h"
 #include "temp_dir.h"
 #include "translation.h"
+namespace MBX_UNITY_ID {
 
 using namespace samples_test;
 
@@ -88,3 +89,4 @@ TEST_CASE("sample fourbar_imperial translates as its README says") { check_sampl
 TEST_CASE("sample double_cardan translates as its README says") { check_sample(sample_expectations()[1]); }
 TEST_CASE("sample five_axis_arm translates as its README says") { check_sample(sample_expectations()[2]); }
 TEST_CASE("sample joints_showcase translates as its README says") { check_sample(sample_expectations()[3]); }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 
 #include "samples/tools/samples.h"
 #include "temp_dir.h"
+namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;
 using samples_test::TempDir;
@@ -51,3 +52,4 @@ TEST_CASE("committed samples match mbx_make_samples") {
     check_folder("joints_showcase", mbx_samples::make_joints_showcase);
     check_folder("emps_axis", mbx_samples::make_emps_axis);
 }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 #include "sim/simulation.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -200,3 +201,4 @@ TEST_CASE("sim accurate: a tumbling free body keeps its momentum and a unit quat
                 "(relative), |quaternion| - 1 up to %.3g; %lld steps\n",
                 worst_h, worst_e, worst_norm, d.stats.steps);
 }
+}  // namespace MBX_UNITY_ID

@@ -15,6 +15,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -64,3 +65,4 @@ TEST_CASE("sim accurate: the EMPS axis with stick/slip friction reproduces the r
                 "(authors' simulation 5.85 %%); %lld mode switches, %lld steps, %lld evaluations\n",
                 position, force, d.stats.mode_switches, d.stats.steps, d.stats.evaluations);
 }
+}  // namespace MBX_UNITY_ID

@@ -10,6 +10,7 @@
 #include "tests/export/mujoco_assemblies.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -175,3 +176,4 @@ TEST_CASE("sim accurate: a run whose efforts become non-finite stops with an err
         CHECK(std::isfinite(d.q[0]));
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -8,6 +8,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "tests/export/test_inputs.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -278,3 +279,4 @@ TEST_CASE("sim: a position limit holds its joint against a steady effort") {
     CHECK(std::fabs(d.v[0]) < 1e-6);
     CHECK(overshoot < 0.05);
 }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 #include "sim/simulation.h"
 #include "sim_cut_check.h"
 #include "tests/export/test_inputs.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -187,3 +188,4 @@ TEST_CASE("sim: a run that diverges is an error, never NaN output") {
         CHECK(all_finite(out.values));
     }
 }
+}  // namespace MBX_UNITY_ID

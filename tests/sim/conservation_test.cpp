@@ -8,6 +8,7 @@
 #include "sim/simulation.h"
 #include "sim_cut_check.h"
 #include "tests/export/test_inputs.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -131,3 +132,4 @@ TEST_CASE("sim: every loop of the four-bar, double cardan and six-bar stays clos
         }
     }
 }
+}  // namespace MBX_UNITY_ID

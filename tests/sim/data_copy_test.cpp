@@ -8,6 +8,7 @@
 #include "sim/build_model.h"
 #include "sim/integrator.h"
 #include "sim/simulation.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -37,3 +38,4 @@ TEST_CASE("sim: a copied data object continues exactly as the original") {
     sim::advance(model, d, settings, 0.6);
     CHECK(assigned.q == d.q);
 }
+}  // namespace MBX_UNITY_ID

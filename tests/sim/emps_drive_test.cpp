@@ -14,6 +14,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/integrator.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using mbx_test::EmpsRecord;
@@ -93,3 +94,4 @@ TEST_CASE("sim: the EMPS axis in mbx's simulator reproduces the rig's closed loo
     CHECK(r_without.force_error < 75);
     CHECK(r_without.force_error > 3 * r_with.force_error);
 }
+}  // namespace MBX_UNITY_ID

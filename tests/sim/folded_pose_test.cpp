@@ -11,6 +11,7 @@
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
 #include "tests/export/test_inputs.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -69,3 +70,4 @@ TEST_CASE("sim: folded revolute and prismatic poses equal the composed joint tra
     CHECK(folded > 20);
     CHECK(prismatic > 0);  // the slider terms are exercised too
 }
+}  // namespace MBX_UNITY_ID

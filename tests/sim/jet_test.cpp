@@ -12,6 +12,7 @@
 #include "sim/build_model.h"
 #include "calibration/simulation/fit_scalar.h"
 #include "sim/joint_forces.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using Jet = mbx::calibration::FitJet;
@@ -95,3 +96,4 @@ TEST_CASE("sim: Jets through the loop-closed solve of the four-bar") {
     }
     CHECK(largest > 1e-3);
 }
+}  // namespace MBX_UNITY_ID

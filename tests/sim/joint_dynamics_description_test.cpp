@@ -14,6 +14,7 @@
 #include "sim/data.h"
 #include "sim/integrator.h"
 #include "sim/resolved_joint_dynamics.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -121,3 +122,4 @@ TEST_CASE("joint dynamics: a damped pendulum in mbx's simulator decays at b / (2
     CHECK(measured_rate == doctest::Approx(rate).epsilon(1e-4));
     CHECK(period == doctest::Approx(2 * kPi / omega_d).epsilon(1e-4));
 }
+}  // namespace MBX_UNITY_ID

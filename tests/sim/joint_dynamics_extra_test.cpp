@@ -19,6 +19,7 @@
 #include "sim/integrator.h"
 #include "sim/joint_forces.h"
 #include "sim/resolved_joint_dynamics.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -187,3 +188,4 @@ TEST_CASE("joint dynamics extra: accurate mode breaks away at the pushed directi
                     (direction > 0 ? cp : cn) + s, t_slip);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -7,6 +7,7 @@
 #include "sim/simulation.h"
 #include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 using namespace mbx_stub::build;
@@ -184,3 +185,4 @@ TEST_CASE("sim: a massless node that nothing determines is an error naming its j
         CHECK(dd.qacc.allFinite());
     }
 }
+}  // namespace MBX_UNITY_ID

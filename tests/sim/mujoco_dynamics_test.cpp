@@ -8,6 +8,7 @@
 #include "sim/dynamics.h"
 #include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -135,3 +136,4 @@ TEST_CASE("sim: build_model's body inertials are the ones MuJoCo compiles from t
         MESSAGE(c.label << ": " << checked << " bodies, worst inertia difference " << worst);
     }
 }
+}  // namespace MBX_UNITY_ID

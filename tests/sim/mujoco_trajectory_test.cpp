@@ -9,6 +9,7 @@
 #include "sim/simulation.h"
 #include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -165,3 +166,4 @@ TEST_CASE("sim: trajectories equal MuJoCo's over 1.5 s, trees and loops") {
         }
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -15,6 +15,7 @@
 #include "sim/resolved_joint_dynamics.h"
 #include "sim/simulation.h"
 #include "sim/transmission.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -241,3 +242,4 @@ TEST_CASE("sim transmission: a description's <transmission> reaches the model, a
     CHECK(m.joints[0].dynamics.damping == 0.1);                        // the joint's own stay on the link
     CHECK(m.transmission_of_dof[0] == 0);
 }
+}  // namespace MBX_UNITY_ID

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <unistd.h>
+namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;
 
@@ -170,3 +171,4 @@ TEST_CASE("the floors check catches an upward and an unplaceable include") {
     CHECK(by_file.count("calibration/fit.cpp fit_local.h"));               // resolvable only by an include path
     CHECK_FALSE(by_file.count("sdk/capi/api.cpp sim/model.h"));            // the face reaching down
 }
+}  // namespace MBX_UNITY_ID

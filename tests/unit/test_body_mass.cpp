@@ -11,6 +11,7 @@
 #include "core/progress.h"
 #include "core/mechatronics/drive_file.h"
 #include "core/translator/translate.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -171,3 +172,4 @@ TEST_CASE("body mass: a centre of mass moved and an inertia changed, read, check
         CHECK(lib_errors[0].message.find(why) != std::string::npos);
     }
 }
+}  // namespace MBX_UNITY_ID

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/mechatronics/drive_controller.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -492,3 +493,4 @@ TEST_CASE("drive controller: closed around the published EMPS plant it reproduce
         CHECK(command < c.command);
     }
 }
+}  // namespace MBX_UNITY_ID

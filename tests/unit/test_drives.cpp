@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 #include "core/translator/translate.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -363,3 +364,4 @@ TEST_CASE("drive file: a library already loaded (by any path to the same file) i
     REQUIRE(spec.library.errors().size() == 1);
     CHECK(spec.library.errors()[0].message.find("declared twice") != std::string::npos);
 }
+}  // namespace MBX_UNITY_ID

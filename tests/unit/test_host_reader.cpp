@@ -5,6 +5,7 @@
 
 #include "core/assembly/host_reader.h"
 #include "apps/stub_host/assemblies/stub_assembly.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -374,3 +375,4 @@ TEST_CASE("host diagnostics (ABI 3) become findings that keep the host's code, f
     read_host(&v2, {}, progress, none);
     CHECK(none.empty());
 }
+}  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "core/mechatronics/drive_file.h"
 #include "core/translator/translate.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -409,3 +410,4 @@ TEST_CASE("joint dynamics file: a bad <transmission> is an error at its own line
     REQUIRE(errors.size() == 1);
     CHECK(errors[0].text().find("joint 'R1': transmission stiffness must be finite and not negative") != std::string::npos);
 }
+}  // namespace MBX_UNITY_ID

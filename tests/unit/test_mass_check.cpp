@@ -3,6 +3,7 @@
 #include "core/assembly/shape_loader.h"
 #include "assembly_builder.h"
 #include "core/translator/translate.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -84,3 +85,4 @@ TEST_CASE("mass check: an open mesh is reported, not checked") {
     CHECK_FALSE(r.m->shape_checks[1].checked);
     CHECK(count(*r.m, MBX_FINDING_SHAPE_NOT_CLOSED) == 1);
 }
+}  // namespace MBX_UNITY_ID

@@ -9,6 +9,7 @@
 #include "core/assembly/host_reader.h"
 #include "apps/stub_host/assemblies/stub_assembly.h"
 #include "core/translator/translate.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -180,3 +181,4 @@ TEST_CASE("density: a power of ten typed in the host's units is a placeholder ev
     CHECK(found(*translate(block_assembly(metre_kilogram, 1.88034, 1.88034e-4, 0.057)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
               .size() == 1);
 }
+}  // namespace MBX_UNITY_ID

@@ -2,6 +2,7 @@
 
 #include "core/translator/mass_properties.h"
 #include "assembly_builder.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -69,3 +70,4 @@ TEST_CASE("inertia checks name what is wrong") {
     CHECK(check_inertia(r * Vec3(1, 2, 2.5).asDiagonal() * r.transpose(), l) == InertiaIssue::none);
     CHECK(l[2] == doctest::Approx(2.5));
 }
+}  // namespace MBX_UNITY_ID

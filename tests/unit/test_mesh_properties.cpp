@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/geometry/mesh_properties.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -73,3 +74,4 @@ TEST_CASE("rotated tetrahedron: analytic centroid and the product-of-inertia sig
     CHECK(p.inertia_per_density(0, 0) == doctest::Approx(2.0 / 60 - V * 2.0 / 16));
     CHECK(p.inertia_per_density(0, 1) == doctest::Approx(-1.0 / 120 + V / 16));
 }
+}  // namespace MBX_UNITY_ID

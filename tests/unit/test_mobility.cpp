@@ -10,6 +10,7 @@
 #include "core/mobility/mobility.h"
 #include "core/mobility/rank.h"
 #include "core/mobility/twist.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -654,3 +655,4 @@ TEST_CASE("mobility: a 10 000-loop ladder keeps its single freedom") {
     CHECK(m.dof == 1);
     CHECK(m.redundant == 3 * n);
 }
+}  // namespace MBX_UNITY_ID

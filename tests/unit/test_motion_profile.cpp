@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/mechatronics/motion_profile.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -62,3 +63,4 @@ TEST_CASE("motion profile: tables with non-increasing times or non-finite number
     CHECK(i == Interpolation::Smooth);
     CHECK_FALSE(parse_interpolation("cubic", i));
 }
+}  // namespace MBX_UNITY_ID

@@ -8,6 +8,7 @@
 
 #include "core/mechatronics/drive_quantities.h"
 #include "core/mechatronics/object_library.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -175,3 +176,4 @@ TEST_CASE("object library: a motor whose nominal values allow no back-EMF is ref
     CHECK_FALSE(dc_motor_constants(lib, lib.find(kId), error));
     CHECK(error.find("back-EMF") != std::string::npos);
 }
+}  // namespace MBX_UNITY_ID

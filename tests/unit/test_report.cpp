@@ -12,6 +12,7 @@
 
 #include "core/report/report.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 using nlohmann::json;
 
@@ -407,3 +408,4 @@ TEST_CASE("report text: the spread of CAD densities, only when parts have a CAD 
     CHECK(text.find("CAD densities (2 parts with a CAD volume; 50 to 25000 kg/m^3 accepted): lightest 'Crank' 2700 "
                     "kg/m^3, densest 'Pin'\n    1e+09 kg/m^3, 1 outside\n") != std::string::npos);
 }
+}  // namespace MBX_UNITY_ID

@@ -13,6 +13,7 @@
 #include "core/finding.h"
 #include "core/report/atomic_file.h"
 #include "../common/file_text.h"
+namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;
 
@@ -178,3 +179,4 @@ TEST_CASE("atomic: concurrent writers of one file never clash or leave debris") 
     CHECK(result.size() == 1000 + static_cast<std::size_t>(result[0] - 'a'));
     CHECK(temporaries_in(s.dir) == 0);
 }
+}  // namespace MBX_UNITY_ID

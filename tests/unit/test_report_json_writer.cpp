@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/report/json_writer.h"
+namespace MBX_UNITY_ID {
 
 using mbx::JsonWriter;
 
@@ -193,3 +194,4 @@ TEST_CASE("json: take() empties the writer for reuse") {
     w.value(2);
     CHECK(w.str() == "2");
 }
+}  // namespace MBX_UNITY_ID

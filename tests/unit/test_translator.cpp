@@ -4,6 +4,7 @@
 
 #include "assembly_builder.h"
 #include "core/translator/translate.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -201,3 +202,4 @@ TEST_CASE("a prismatic joint may start slid along its axis, not across it") {
     m = run(b);
     CHECK(count_code(*m, MBX_FINDING_JOINT_FRAMES_APART, "slide") == 1);
 }
+}  // namespace MBX_UNITY_ID

@@ -17,6 +17,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "view/view_page.h"
+namespace MBX_UNITY_ID {
 
 using namespace mbx;
 
@@ -207,3 +208,4 @@ TEST_CASE("view: the page holds the collision shapes behind a checkbox, only whe
     }
     CHECK(listed == settings.contact.shapes.size());
 }
+}  // namespace MBX_UNITY_ID

@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::read_vrml_text;
 using mbx_files::VrmlError;
@@ -141,3 +142,4 @@ TEST_CASE("fuzz: random byte mutations end in success or VrmlError") {
     }
     MESSAGE(cases << " mutated files, " << ok << " read without error");
 }
+}  // namespace MBX_UNITY_ID

@@ -6,6 +6,7 @@
 
 #include "host_adapters/pmxml_vrml/vrml_primitives.h"
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::VrmlMesh;
 using mbx_files::VrmlScene;
@@ -159,3 +160,4 @@ Group { children [
     REQUIRE(scene.nodes.size() == 1);
     CHECK(scene.nodes[0].meshes.empty());
 }
+}  // namespace MBX_UNITY_ID

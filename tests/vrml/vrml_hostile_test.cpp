@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::read_vrml;
 using mbx_files::read_vrml_text;
@@ -312,3 +313,4 @@ TEST_CASE("hostile sizes stay near-linear: many fields, a huge PROTO interface, 
     MESSAGE("hostile sizes read in " << seconds << " s");
     CHECK(seconds < 20);
 }
+}  // namespace MBX_UNITY_ID

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::read_vrml;
 using mbx_files::VrmlScene;
@@ -98,3 +99,4 @@ TEST_CASE("a part inlined many times is read once and placed each time") {
     CHECK(scene.nodes[99].meshes.size() == 1);
     CHECK(scene.nodes[99].part_name == "BOLT");
 }
+}  // namespace MBX_UNITY_ID

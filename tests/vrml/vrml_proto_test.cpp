@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::VrmlScene;
 using vrml_test::find_node;
@@ -164,3 +165,4 @@ DEF B Transform { children DEF C Group { } }
     for (const auto& n : scene.nodes) CHECK(n.part_name == "SINGLE_PART");
     CHECK(scene.nodes.size() == 5);
 }
+}  // namespace MBX_UNITY_ID

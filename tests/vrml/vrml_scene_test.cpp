@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::read_vrml;
 using mbx_files::read_vrml_text;
@@ -214,3 +215,4 @@ TEST_CASE("read_vrml_text reads text in memory as read_vrml reads the file") {
     CHECK(from_text.nodes[1].part_name == "P");
     CHECK(from_text.nodes[1].world.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
 }
+}  // namespace MBX_UNITY_ID

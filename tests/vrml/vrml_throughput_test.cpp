@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+namespace MBX_UNITY_ID {
 
 using mbx_files::read_vrml;
 using mbx_files::VrmlScene;
@@ -70,3 +71,4 @@ TEST_CASE("throughput: a generated multi-megabyte IndexedFaceSet file") {
                     << " s: " << text.size() / 1e6 / seconds << " MB/s");
     CHECK(seconds < 20);
 }
+}  // namespace MBX_UNITY_ID
