@@ -24,6 +24,12 @@ struct Pose {
 
 // Largest entry of |R^T R - I|: how far a host matrix is from a rotation.
 double orthonormality_error(const Mat3& r);
+// A 3x3 matrix from nine numbers row by row (the C API's rotation and inertia layout).
+inline Mat3 from_row_major(const double* r) {
+    Mat3 m;
+    m << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
+    return m;
+}
 
 // Nearest proper rotation (polar decomposition through SVD). Returns false if
 // `r` is singular or a reflection (det <= 0), which no re-orthonormalization

@@ -34,10 +34,14 @@ bool finite(const double* v, size_t n) {
     return true;
 }
 
-Mat3 row_major(const double* r) {
-    Mat3 m;
-    m << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
-    return m;
+// A warning finding about `subject` (the fields it leaves empty: no file, no host code).
+Finding warning(mbx_finding_code code, Subject subject, std::string message) {
+    Finding f;
+    f.severity = MBX_SEVERITY_WARNING;
+    f.code = code;
+    f.subject = std::move(subject);
+    f.message = std::move(message);
+    return f;
 }
 
 }  // namespace
@@ -133,7 +137,7 @@ private:
 
     // Rotation from the host, repaired if it is merely rounded.
     Mat3 rotation(const double* r, const Subject& subject, const char* what) {
-        Mat3 m = row_major(r);
+        Mat3 m = from_row_major(r);
         double err = orthonormality_error(m);
         if (err <= 1e-12 && m.determinant() > 0) return m;
         Mat3 fixed;
@@ -143,11 +147,11 @@ private:
                             subject.id + "' is not a rotation (max |R^T R - I| = " + std::to_string(err) +
                             (m.determinant() <= 0 ? ", determinant <= 0: a reflection" : "") + ")");
         if (err > options_.orthonormality_tolerance)
-            findings_.push_back({MBX_SEVERITY_WARNING, MBX_FINDING_ROTATION_REORTHONORMALIZED, subject,
+            findings_.push_back(warning(MBX_FINDING_ROTATION_REORTHONORMALIZED, subject,
                                  std::string("the ") + what + " rotation of '" + subject.id +
                                      "' was re-orthonormalized (max |R^T R - I| = " + std::to_string(err) +
                                      ", above the rounding tolerance " +
-                                     std::to_string(options_.orthonormality_tolerance) + ")"});
+                                     std::to_string(options_.orthonormality_tolerance) + ")"));
         return fixed;
     }
 
@@ -214,7 +218,7 @@ private:
             const double inertia_f = d.units.inertia_to_kg_m2 == 0 ? mass_f * len * len : d.units.inertia_to_kg_m2;
             p.mass = d.mass * mass_f;
             p.com = Vec3(d.com[0], d.com[1], d.com[2]) * len;
-            Mat3 inertia = row_major(d.inertia) * inertia_f;
+            Mat3 inertia = from_row_major(d.inertia) * inertia_f;
             p.inertia = 0.5 * (inertia + inertia.transpose());
             p.pose.position = Vec3(d.pose.position[0], d.pose.position[1], d.pose.position[2]) * len;
             p.pose.rotation = rotation(d.pose.rotation, s, "pose");
@@ -320,8 +324,8 @@ private:
             c.chain.reserve(d.primitive_count);
             for (uint32_t k = 0; k < d.primitive_count; ++k) c.chain.push_back(read_primitive(i, k, c, s, base));
             if (!c.host_status.empty())
-                findings_.push_back({MBX_SEVERITY_WARNING, MBX_FINDING_HOST_STATUS, s,
-                                     "host reports on constraint '" + c.name + "': " + c.host_status});
+                findings_.push_back(warning(MBX_FINDING_HOST_STATUS, s,
+                                     "host reports on constraint '" + c.name + "': " + c.host_status));
             out_.constraints.push_back(std::move(c));
             progress_.tick();
         }
@@ -360,9 +364,9 @@ private:
             require_finite(lim, 2, s, "joint limit");
             const double scale = p.type == MBX_PRIMITIVE_PRISMATIC ? frame_length_unit_[size_t(c.base_frame)] : 1.0;
             if (d.lower > d.upper) {
-                findings_.push_back({MBX_SEVERITY_WARNING, MBX_FINDING_LIMITS_INVERTED, s,
+                findings_.push_back(warning(MBX_FINDING_LIMITS_INVERTED, s,
                                      where + " has lower limit " + std::to_string(d.lower) + " above upper limit " +
-                                         std::to_string(d.upper) + "; the limits are ignored"});
+                                         std::to_string(d.upper) + "; the limits are ignored"));
             } else {
                 p.has_limits = true;
                 p.lower = d.lower * scale;

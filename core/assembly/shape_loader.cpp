@@ -15,12 +15,6 @@ struct SinkState {
     std::string error;
 };
 
-Mat3 row_major(const double* r) {
-    Mat3 m;
-    m << r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8];
-    return m;
-}
-
 int add_mesh(void* data, const mbx_mesh_desc* d) {
     auto* s = static_cast<SinkState*>(data);
     const std::string who = "mesh of part '" + s->part->id + "'";
@@ -33,7 +27,7 @@ int add_mesh(void* data, const mbx_mesh_desc* d) {
         return 1;
     }
     const double len = d->units.length_to_m == 0 ? 1.0 : d->units.length_to_m;
-    Mat3 r = row_major(d->pose.rotation);
+    Mat3 r = from_row_major(d->pose.rotation);
     Mat3 fixed;
     if (!std::isfinite(len) || len <= 0 || !nearest_rotation(r, fixed) || orthonormality_error(r) > 0.05) {
         s->error = who + " has an invalid unit factor or pose rotation";

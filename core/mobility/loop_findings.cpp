@@ -11,7 +11,7 @@ namespace {
 
 constexpr size_t kListedJoints = 8;
 
-std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
 std::string joint_list(const Mechanism& mech, const Loop& loop) {
     std::string out;
@@ -19,7 +19,7 @@ std::string joint_list(const Mechanism& mech, const Loop& loop) {
     const size_t shown = n > kListedJoints ? kListedJoints : n;
     for (size_t k = 0; k < shown; ++k) {
         if (k > 0) out += (k + 1 == n) ? " and " : ", ";
-        out += quoted(mech.joints[loop.joints[k]].name);
+        out += in_quotes(mech.joints[loop.joints[k]].name);
     }
     if (shown < n) out += " and " + std::to_string(n - shown) + " more";
     return out;
@@ -46,7 +46,7 @@ void report_loop(Mechanism& mech, int loop_index) {
     const Loop& loop = mech.loops[loop_index];
     const std::string id = "loop" + std::to_string(loop_index);
     const std::string title = "Loop " + std::to_string(loop_index) + " (cut at joint " +
-                              quoted(mech.joints[loop.cut_joint].name) + "; joints " + joint_list(mech, loop) + ")";
+                              in_quotes(mech.joints[loop.cut_joint].name) + "; joints " + joint_list(mech, loop) + ")";
     const int equations = loop.planar ? 3 : 6;
     // A planar loop's 3 out-of-plane equations are dependent by design; only
     // redundancy beyond them is a modelling problem.

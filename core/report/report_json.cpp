@@ -273,7 +273,7 @@ void write_findings(JsonWriter& w, const Mechanism& m) {
 }
 
 // Rough bytes per element, so the buffer grows once instead of ~20 times.
-std::size_t estimated_size(const Mechanism& m) {
+std::size_t json_size_estimate(const Mechanism& m) {
     std::size_t n = 1024;
     n += m.assembly.parts.size() * 160;
     n += m.bodies.size() * 760;
@@ -309,7 +309,7 @@ void write_joint_dynamics(JsonWriter& w, const Mechanism& m, const std::vector<R
 
 std::string report_json(const Mechanism& m, const std::vector<Drive>* drives,
                         const std::vector<ResolvedJointDynamics>* joint_dynamics) {
-    JsonWriter w(estimated_size(m));
+    JsonWriter w(json_size_estimate(m));
     w.begin_object();
     w.member("mbx_version", MBX_VERSION_STRING);
     w.key("model").begin_object().member("name", m.assembly.name).member("source", m.assembly.source).end_object();

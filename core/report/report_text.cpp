@@ -375,7 +375,7 @@ void write_findings(Text& t, const Mechanism& m, const Counts& c) {
     }
 }
 
-std::size_t estimated_size(const Mechanism& m) {
+std::size_t text_size_estimate(const Mechanism& m) {
     const std::size_t tree_lines = m.bodies.size() + m.joints.size();
     std::size_t n = 2048 + 90 * (tree_lines < kMaxTreeLines ? tree_lines : kMaxTreeLines);
     n += 110 * m.loops.size();
@@ -388,7 +388,7 @@ std::size_t estimated_size(const Mechanism& m) {
 std::string report_text(const Mechanism& m, const std::vector<Drive>* drives,
                         const std::vector<ResolvedJointDynamics>* joint_dynamics) {
     const Counts c = count(m);
-    Text t(estimated_size(m));
+    Text t(text_size_estimate(m));
     write_header(t, m, c);
     t.blank();
     Outline(t, m).write();

@@ -24,16 +24,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/text_format.h"
 #include "core/translator/translate.h"
 
 namespace mbx {
 namespace {
-
-std::string fmt(const char* format, double a, double b = 0, double c = 0) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, format, a, b, c);
-    return buf;
-}
 
 // Mass and volume are both printed with 6 significant digits by CAD exports.
 bool is_unit_density(double host_density) { return std::fabs(host_density - 1.0) <= 1e-4; }
@@ -52,8 +47,8 @@ void check_densities(Mechanism& m) {
         if (density >= kDensityMin && density <= kDensityMax) {
             if (const double typed = typed_power_of_ten(p.host_density))
                 m.add(MBX_SEVERITY_WARNING, MBX_FINDING_IMPLAUSIBLE_DENSITY, Subject::body(p.id, p.name),
-                      "part '" + p.name + "' has mass " + fmt("%.6g kg in a CAD volume of %.6g m^3", p.mass, p.volume) +
-                          ": density " + fmt("%.6g kg/m^3, exactly %g in the host's units; ", density, typed) +
+                      "part '" + p.name + "' has mass " + formatted("%.6g kg in a CAD volume of %.6g m^3", p.mass, p.volume) +
+                          ": density " + formatted("%.6g kg/m^3, exactly %g in the host's units; ", density, typed) +
                           "a round placeholder rather than a material's density (mirrored or copied parts often "
                           "lose their material)");
             continue;
@@ -63,8 +58,8 @@ void check_densities(Mechanism& m) {
                                 "no material assigned"
                               : "suspect a part without a material (a default density) or a wrong mass or volume unit";
         m.add(MBX_SEVERITY_WARNING, MBX_FINDING_IMPLAUSIBLE_DENSITY, Subject::body(p.id, p.name),
-              "part '" + p.name + "' has mass " + fmt("%.6g kg in a CAD volume of %.6g m^3", p.mass, p.volume) +
-                  ": density " + fmt("%.6g kg/m^3, outside %g to %g kg/m^3 (light foams to osmium); ", density,
+              "part '" + p.name + "' has mass " + formatted("%.6g kg in a CAD volume of %.6g m^3", p.mass, p.volume) +
+                  ": density " + formatted("%.6g kg/m^3, outside %g to %g kg/m^3 (light foams to osmium); ", density,
                                      kDensityMin, kDensityMax) +
                   why);
     }
@@ -80,8 +75,8 @@ void check_assembly_mass(Mechanism& m) {
     const double diff = std::fabs(stated - sum);
     if (diff <= kAssemblyMassTolerance * std::max(stated, sum)) return;
     m.add(MBX_SEVERITY_WARNING, MBX_FINDING_ASSEMBLY_MASS_MISMATCH, Subject::model(m.assembly.name),
-          "the host states an assembly mass of " + fmt("%.6g kg, but its %g parts add up to %.6g kg", stated, n, sum) +
-              fmt(" (%.3g %% apart, tolerance %g %%); suspect parts missing from the export, a mass override on "
+          "the host states an assembly mass of " + formatted("%.6g kg, but its %g parts add up to %.6g kg", stated, n, sum) +
+              formatted(" (%.3g %% apart, tolerance %g %%); suspect parts missing from the export, a mass override on "
                   "the assembly or parts without a material",
                   100 * diff / std::max(stated, sum), 100 * kAssemblyMassTolerance));
 }

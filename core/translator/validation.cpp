@@ -2,24 +2,19 @@
 // massless dynamic bodies, and joints whose two frames are not at one place.
 #include <cstdio>
 
+#include "core/text_format.h"
 #include "core/translator/mass_properties.h"
 #include "core/translator/translate.h"
 
 namespace mbx {
 namespace {
 
-std::string fmt(const char* format, double a, double b = 0, double c = 0) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, format, a, b, c);
-    return buf;
-}
-
 void check_parts(Mechanism& m) {
     for (const Part& p : m.assembly.parts) {
         Subject s = Subject::body(p.id, p.name);
         if (p.mass < 0) {
             m.add(MBX_SEVERITY_ERROR, MBX_FINDING_NEGATIVE_MASS, s,
-                  "part '" + p.name + "' has negative mass " + fmt("%g kg", p.mass) +
+                  "part '" + p.name + "' has negative mass " + formatted("%g kg", p.mass) +
                       "; it is left out of its rigid body's mass properties");
             continue;
         }
@@ -30,18 +25,18 @@ void check_parts(Mechanism& m) {
             case InertiaIssue::semi_definite:
                 m.add(MBX_SEVERITY_WARNING, MBX_FINDING_INERTIA_NOT_POSITIVE_DEFINITE, s,
                       "inertia of part '" + p.name + "' is only positive semi-definite (principal moments " +
-                          fmt("%.6g, %.6g, %.6g kg m^2", l[0], l[1], l[2]) + ")");
+                          formatted("%.6g, %.6g, %.6g kg m^2", l[0], l[1], l[2]) + ")");
                 break;
             case InertiaIssue::not_positive_definite:
                 m.add(MBX_SEVERITY_ERROR, MBX_FINDING_INERTIA_NOT_POSITIVE_DEFINITE, s,
                       "inertia of part '" + p.name + "' is not positive definite (principal moments " +
-                          fmt("%.6g, %.6g, %.6g kg m^2", l[0], l[1], l[2]) +
+                          formatted("%.6g, %.6g, %.6g kg m^2", l[0], l[1], l[2]) +
                           "); CAD exports of mirrored parts often look like this");
                 break;
             case InertiaIssue::triangle_inequality:
                 m.add(MBX_SEVERITY_ERROR, MBX_FINDING_INERTIA_TRIANGLE_INEQUALITY, s,
                       "inertia of part '" + p.name + "' breaks the triangle inequality (principal moments " +
-                          fmt("%.6g, %.6g, %.6g kg m^2", l[0], l[1], l[2]) + ": the two smaller sum to less than the largest)");
+                          formatted("%.6g, %.6g, %.6g kg m^2", l[0], l[1], l[2]) + ": the two smaller sum to less than the largest)");
                 break;
         }
     }
@@ -75,8 +70,8 @@ void check_joint_frames(Mechanism& m) {
         m.add(cut ? MBX_SEVERITY_ERROR : MBX_SEVERITY_WARNING, MBX_FINDING_JOINT_FRAMES_APART,
               Subject::constraint(c.id, c.name),
               "frames '" + a.frames[size_t(c.base_frame)].name + "' and '" + a.frames[size_t(c.follower_frame)].name +
-                  "' of joint '" + c.name + "' are " + fmt("%.6g mm", gap * 1e3) +
-                  " apart at the assembly pose (tolerance " + fmt("%.3g mm", m.length_tolerance * 1e3) + ")" +
+                  "' of joint '" + c.name + "' are " + formatted("%.6g mm", gap * 1e3) +
+                  " apart at the assembly pose (tolerance " + formatted("%.3g mm", m.length_tolerance * 1e3) + ")" +
                   (cut ? "; the loop this joint closes cannot close" : "; the joint is placed at the base frame"));
     }
 }

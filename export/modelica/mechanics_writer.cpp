@@ -41,7 +41,6 @@ const char* type_word(mbx_primitive_type t) {
     return "weld";
 }
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 // Two significant digits: world.nominalLength only scales the default
 // animation of joints and frames.
@@ -239,7 +238,7 @@ void MechanicsBuilder::note_limits() {
     std::string names;
     for (const Joint& joint : m_.joints) {
         if (!joint.has_limits) continue;
-        names += (names.empty() ? "" : ", ") + quoted(joint.name);
+        names += (names.empty() ? "" : ", ") + quoted_identifier(joint.name);
     }
     if (names.empty()) return;
     model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, Subject::model(model_.settings().model_name),
@@ -275,9 +274,9 @@ std::string MechanicsBuilder::attach_fixed(const std::string& from, const Pose& 
 
 std::string MechanicsBuilder::joint_description(int j) const {
     const Joint& joint = m_.joints[size_t(j)];
-    std::string d = std::string(type_word(joint.type)) + " " + quoted(joint.name);
+    std::string d = std::string(type_word(joint.type)) + " " + quoted_identifier(joint.name);
     if (joint.constraint >= 0 && size_t(joint.constraint) < m_.assembly.constraints.size())
-        d += " (constraint " + quoted(m_.assembly.constraints[size_t(joint.constraint)].id) + ", primitive " +
+        d += " (constraint " + quoted_identifier(m_.assembly.constraints[size_t(joint.constraint)].id) + ", primitive " +
              std::to_string(joint.primitive_index) + ")";
     const int planar = planar_loop_of_[size_t(j)];
     if (joint.cut)
@@ -300,11 +299,11 @@ std::string MechanicsBuilder::add_joint_chain(int j, const std::string& from, co
     std::string end;
     if (joint.type == MBX_PRIMITIVE_WELD) {
         end = attach_fixed(from, p.parent_to_joint * p.joint_to_child, name,
-                           "weld " + quoted(joint.name) + ": frame of " + quoted(child.name) + " on " + quoted(parent.name),
+                           "weld " + quoted_identifier(joint.name) + ": frame of " + quoted_identifier(child.name) + " on " + quoted_identifier(parent.name),
                            animate_parent_side, into);
     } else {
         std::string at = attach_fixed(from, p.parent_to_joint, name + "_offset_a",
-                                      "frame of joint " + quoted(joint.name) + " on " + quoted(parent.name),
+                                      "frame of joint " + quoted_identifier(joint.name) + " on " + quoted_identifier(parent.name),
                                       animate_parent_side, into);
         ModelicaComponent c;
         c.name = name;
@@ -336,7 +335,7 @@ std::string MechanicsBuilder::add_joint_chain(int j, const std::string& from, co
                 f.class_name = rotational ? kRotationalFlange : kTranslationalFlange;
                 f.name = flange_name_[size_t(j)][size_t(k)];
                 f.description = std::string(k == 0 ? "drive" : "support (bearing)") + " flange of " +
-                                type_word(joint.type) + " " + quoted(joint.name);
+                                type_word(joint.type) + " " + quoted_identifier(joint.name);
                 connect(flange_connects_, name + (k == 0 ? ".axis" : ".support"), f.name);
                 flanges_.push_back(std::move(f));
             }
@@ -344,7 +343,7 @@ std::string MechanicsBuilder::add_joint_chain(int j, const std::string& from, co
         connect(into, at, name + ".frame_a");
         out_.components.push_back(std::move(c));
         end = attach_fixed(name + ".frame_b", p.joint_to_child, name + "_offset_b",
-                           "frame of " + quoted(child.name) + " in joint " + quoted(joint.name), animate_child_side,
+                           "frame of " + quoted_identifier(child.name) + " in joint " + quoted_identifier(joint.name), animate_child_side,
                            into);
     }
     if (to.empty()) return end;
@@ -374,10 +373,10 @@ void MechanicsBuilder::add_ground() {
     const size_t first = out_.components.size();
     // Ground is fixed: its mass does not matter, only its pose and geometry.
     body_frame_[0] = attach_fixed("world.frame_b", ground.pose, body_name_[0] + "_pose",
-                                  "pose of the ground body " + quoted(ground.name) + " in the world",
+                                  "pose of the ground body " + quoted_identifier(ground.name) + " in the world",
                                   !model_.has_mesh(0), tree_connects_);
     add_shape(0);
-    if (out_.components.size() > first) out_.components[first].comment = "Ground " + quoted(ground.name);
+    if (out_.components.size() > first) out_.components[first].comment = "Ground " + quoted_identifier(ground.name);
 }
 
 void MechanicsBuilder::add_shape(int b) {
@@ -386,7 +385,7 @@ void MechanicsBuilder::add_shape(int b) {
     ModelicaComponent s;
     s.class_name = kFixedShape;
     s.name = names_.claim(body_name_[size_t(b)] + "_shape");
-    s.description = "mesh of " + quoted(body.name);
+    s.description = "mesh of " + quoted_identifier(body.name);
     s.modifiers = {{"shapeType", modelica_string("modelica://" + package_ + "/" + modelica_mesh_path(model_, b))},
                    {"r_shape", "{0, 0, 0}"},
                    {"lengthDirection", "{1, 0, 0}"},
@@ -416,7 +415,7 @@ void MechanicsBuilder::add_body(int b) {
         ModelicaComponent c;
         c.class_name = kBody;
         c.name = body_name_[size_t(b)];
-        c.description = "body " + quoted(body.name) + " (id " + quoted(body.id) +
+        c.description = "body " + quoted_identifier(body.name) + " (id " + quoted_identifier(body.id) +
                         (body.parts.size() > 1 ? ", " + std::to_string(body.parts.size()) + " welded parts" : "") +
                         ")";
         // MSL: I_ij about the centre of mass, resolved in frame_a (the body frame).
@@ -444,7 +443,7 @@ void MechanicsBuilder::add_body(int b) {
         add_shape(b);
     }
     if (out_.components.size() > first)
-        out_.components[first].comment = std::string(dynamic ? "Body " : "Joint node ") + quoted(body.name);
+        out_.components[first].comment = std::string(dynamic ? "Body " : "Joint node ") + quoted_identifier(body.name);
 }
 
 void MechanicsBuilder::add_cut_joint(int j) {
@@ -452,7 +451,7 @@ void MechanicsBuilder::add_cut_joint(int j) {
     const size_t first = out_.components.size();
     add_joint_chain(j, body_frame_[size_t(joint.parent)], body_frame_[size_t(joint.child)], loop_connects_);
     if (out_.components.size() > first)
-        out_.components[first].comment = "Cut joint " + quoted(joint.name) + " closing loop " + std::to_string(joint.loop);
+        out_.components[first].comment = "Cut joint " + quoted_identifier(joint.name) + " closing loop " + std::to_string(joint.loop);
 }
 
 void MechanicsBuilder::add_flanges() {
@@ -480,12 +479,12 @@ ModelicaModel MechanicsBuilder::build() {
     }
 
     const ExportSettings& settings = model_.settings();
-    out_.header = "Generated by mbx from " + quoted(settings.model_name) +
+    out_.header = "Generated by mbx from " + quoted_identifier(settings.model_name) +
                   ". Do not edit: every export rewrites this file.\n"
                   "Put your changes in UserModel.mo (it extends this model and mbx never overwrites it).";
     out_.within = package_;
     out_.name = "Mechanics";
-    out_.description = "Multibody model of " + quoted(settings.model_name) + " (generated by mbx)";
+    out_.description = "Multibody model of " + quoted_identifier(settings.model_name) + " (generated by mbx)";
 
     body_frame_.assign(nb, {});
     add_world();

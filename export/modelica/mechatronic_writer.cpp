@@ -18,7 +18,6 @@ const std::string kAnalog = "Modelica.Electrical.Analog.";
 const std::string kRotational = "Modelica.Mechanics.Rotational.";
 const std::string kTranslational = "Modelica.Mechanics.Translational.";
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
 // "[t1, q1; t2, q2; ...]"
 std::string table_text(const std::vector<MotionPoint>& points) {
@@ -107,14 +106,14 @@ void MechatronicBuilder::add_drive(int index) {
     if (!has_flange || (joint->type == MBX_PRIMITIVE_PRISMATIC) != d.linear) {
         model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION,
                     joint ? model_.joint_subject(d.joint) : Subject::model(model_.settings().model_name),
-                    "Modelica: drive " + quoted(d.name) + " is left out of Mechatronic.mo: its joint" +
-                        (joint ? " " + quoted(joint->name) : std::string()) +
+                    "Modelica: drive " + quoted_identifier(d.name) + " is left out of Mechatronic.mo: its joint" +
+                        (joint ? " " + quoted_identifier(joint->name) : std::string()) +
                         " has no axis flange in Mechanics.mo (a cut joint or the revolute that carries a "
                         "planar-loop constraint)");
         return;
     }
     drive_ = &d;
-    owner_ = "drive " + quoted(d.name);
+    owner_ = "drive " + quoted_identifier(d.name);
     prefix_ = sanitize_identifier(d.name, "drive");
     result_.drives.push_back({index, prefix_, {}});
     parts_ = &result_.drives.back();
@@ -153,14 +152,14 @@ void MechatronicBuilder::add_drive(int index) {
     const std::string& mechanics_joint = joint->name;
     const std::string position =
         add("position", linear ? kTranslational + "Sensors.PositionSensor" : kRotational + "Sensors.AngleSensor", {},
-            std::string("joint ") + (linear ? "position" : "angle") + " of " + quoted(mechanics_joint) + ", " + unit);
+            std::string("joint ") + (linear ? "position" : "angle") + " of " + quoted_identifier(mechanics_joint) + ", " + unit);
     connect(position + ".flange", axis);
     const std::string q = position + (linear ? ".s" : ".phi");
     std::string qd;
     if (discrete || c.kd > 0 || c.kv > 0) {
         const std::string speed =
             add("speed", linear ? kTranslational + "Sensors.SpeedSensor" : kRotational + "Sensors.SpeedSensor", {},
-                "joint velocity of " + quoted(mechanics_joint) + ", " + unit + "/s");
+                "joint velocity of " + quoted_identifier(mechanics_joint) + ", " + unit + "/s");
         connect(speed + ".flange", axis);
         qd = speed + (linear ? ".v" : ".w");
     }
@@ -235,7 +234,7 @@ void MechatronicBuilder::add_drive(int index) {
                        "during the first " + number_text(c.delay) + " s";
         if (!differs.empty())
             model_.note(MBX_SEVERITY_INFO, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(d.joint),
-                        "Modelica: drive " + quoted(d.name) + " has a continuous controller of MSL blocks: " + differs);
+                        "Modelica: drive " + quoted_identifier(d.name) + " has a continuous controller of MSL blocks: " + differs);
     }
 
     // Amplifier and armature circuit.
@@ -251,15 +250,15 @@ void MechatronicBuilder::add_drive(int index) {
         connect(amplifier + ".y", source + ".i");
     }
     const std::string resistor = add("resistor", kAnalog + "Basic.Resistor", {{"R", number_text(d.armature_resistance)}},
-                                     "armature resistance of motor " + quoted(d.motor_name));
+                                     "armature resistance of motor " + quoted_identifier(d.motor_name));
     // An ideal current source imposes the current: an inductor would only ask
     // a Modelica tool to differentiate the controller output.
     std::string inductor;
     if (voltage && d.armature_inductance > 0)
         inductor = add("inductor", kAnalog + "Basic.Inductor", {{"L", number_text(d.armature_inductance)}},
-                       "armature inductance of motor " + quoted(d.motor_name));
+                       "armature inductance of motor " + quoted_identifier(d.motor_name));
     const std::string emf = add("emf", kAnalog + "Basic.RotationalEMF", {{"k", number_text(d.motor.torque_constant)}},
-                                "torque and back-EMF constant of motor " + quoted(d.motor_name) + ", N m/A");
+                                "torque and back-EMF constant of motor " + quoted_identifier(d.motor_name) + ", N m/A");
     const std::string ground = add("ground", kAnalog + "Basic.Ground", {}, "electrical ground of the armature circuit");
     // Current flows from the source through the resistor (and inductor) into
     // emf.p: SignalVoltage drives it out of p, SignalCurrent out of n.
@@ -279,19 +278,19 @@ void MechatronicBuilder::add_drive(int index) {
     std::string shaft = emf + ".flange";
     if (d.motor.rotor_inertia > 0) {
         const std::string rotor = add("rotor", kRotational + "Components.Inertia",
-                                      {{"J", number_text(d.motor.rotor_inertia)}}, "rotor inertia of motor " + quoted(d.motor_name));
+                                      {{"J", number_text(d.motor.rotor_inertia)}}, "rotor inertia of motor " + quoted_identifier(d.motor_name));
         connect(shaft, rotor + ".flange_a");
         shaft = rotor + ".flange_b";
     }
     const std::string gear = add("motor_gear", kRotational + "Components.IdealGear",
                                  {{"ratio", number_text(d.motor.ratio)}},
-                                 "built-in gear of motor " + quoted(d.motor_name) + " (motor turns per output turn)");
+                                 "built-in gear of motor " + quoted_identifier(d.motor_name) + " (motor turns per output turn)");
     connect(shaft, gear + ".flange_a");
     shaft = gear + ".flange_b";
     const bool gearbox = d.transmission_kind == "gearbox";
     const bool screw = d.transmission_kind == "ball_screw";
     if (gearbox || screw) {
-        const std::string what = std::string(gearbox ? "gearbox " : "ball screw ") + quoted(d.transmission_name);
+        const std::string what = std::string(gearbox ? "gearbox " : "ball screw ") + quoted_identifier(d.transmission_name);
         if (d.transmission_inertia > 0) {
             const std::string inertia = add("transmission_inertia", kRotational + "Components.Inertia",
                                             {{"J", number_text(d.transmission_inertia)}}, "own inertia of " + what + " at its input");
@@ -316,14 +315,14 @@ void MechatronicBuilder::add_drive(int index) {
     connect(shaft, axis);
 
     out_.components[first_component_].comment =
-        "Drive " + quoted(d.name) + " on " + (linear ? "prismatic " : "revolute ") + quoted(mechanics_joint) +
-        ": motor " + quoted(d.motor_name) +
+        "Drive " + quoted_identifier(d.name) + " on " + (linear ? "prismatic " : "revolute ") + quoted_identifier(mechanics_joint) +
+        ": motor " + quoted_identifier(d.motor_name) +
         (d.transmission_name.empty() ? std::string()
                                         : std::string(d.transmission_kind == "gearbox" ? ", gearbox " : ", ball screw ") +
-                                              quoted(d.transmission_name)) +
+                                              quoted_identifier(d.transmission_name)) +
         (discrete ? ", sampled controller" : ", continuous controller") + (voltage ? ", voltage" : ", current") +
         " amplifier";
-    connects_.front().comment = "Drive " + quoted(d.name);
+    connects_.front().comment = "Drive " + quoted_identifier(d.name);
     for (ModelicaConnect& cn : connects_) out_.connects.push_back(std::move(cn));
 }
 
@@ -347,7 +346,7 @@ void MechatronicBuilder::add_joint_dynamics(int index) {
     if (!has_flange) {
         model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION,
                     joint ? model_.joint_subject(jd.joint) : Subject::model(model_.settings().model_name),
-                    "Modelica: the joint dynamics of " + quoted(jd.name) +
+                    "Modelica: the joint dynamics of " + quoted_identifier(jd.name) +
                         " are left out of Mechatronic.mo: the joint has no axis flange in Mechanics.mo (the "
                         "revolute that carries a planar-loop constraint)");
         return;
@@ -355,7 +354,7 @@ void MechatronicBuilder::add_joint_dynamics(int index) {
     if (jd.limited)
         model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(jd.joint),
                     "Modelica MultiBody joints have no position limits: the limits [" + number_text(jd.lower) + ", " +
-                        number_text(jd.upper) + "] of joint " + quoted(jd.name) + " are not in Mechatronic.mo");
+                        number_text(jd.upper) + "] of joint " + quoted_identifier(jd.name) + " are not in Mechatronic.mo");
     const bool linear = jd.linear;
     const std::string axis = "mechanics." + flanges_[size_t(jd.joint)].axis;
     const std::string support = "mechanics." + flanges_[size_t(jd.joint)].support;
@@ -364,7 +363,7 @@ void MechatronicBuilder::add_joint_dynamics(int index) {
     const std::string effort_unit = linear ? "N" : "N m", position_unit = linear ? "m" : "rad";
 
     drive_ = nullptr;
-    owner_ = "joint dynamics of " + quoted(jd.name);
+    owner_ = "joint dynamics of " + quoted_identifier(jd.name);
     prefix_ = sanitize_identifier(jd.name, "joint");
     result_.joint_dynamics.push_back({index, prefix_, {}});
     parts_ = &result_.joint_dynamics.back();
@@ -380,7 +379,7 @@ void MechatronicBuilder::add_joint_dynamics(int index) {
     const double damping = jd.symmetric_damping();
     if (jd.damping_negative != jd.damping)
         model_.note(MBX_SEVERITY_WARNING, MBX_FINDING_EXPORT_APPROXIMATION, model_.joint_subject(jd.joint),
-                    "Modelica: MSL's dampers are symmetric: joint " + quoted(jd.name) + " gets the mean damping " +
+                    "Modelica: MSL's dampers are symmetric: joint " + quoted_identifier(jd.name) + " gets the mean damping " +
                         number_text(damping) + " of " + number_text(jd.damping) + " (q' > 0) and " +
                         number_text(jd.damping_negative) + " (q' < 0)");
     if (damping > 0 && jd.stiffness > 0)
@@ -451,8 +450,8 @@ void MechatronicBuilder::add_joint_dynamics(int index) {
         return;
     }
     out_.components[first_component_].comment =
-        "Joint dynamics of " + std::string(linear ? "prismatic " : "revolute ") + quoted(jd.name);
-    connects_.front().comment = "Joint dynamics of " + quoted(jd.name);
+        "Joint dynamics of " + std::string(linear ? "prismatic " : "revolute ") + quoted_identifier(jd.name);
+    connects_.front().comment = "Joint dynamics of " + quoted_identifier(jd.name);
     for (ModelicaConnect& cn : connects_) out_.connects.push_back(std::move(cn));
 }
 
@@ -465,13 +464,13 @@ MechatronicModel MechatronicBuilder::build() {
     names_.reserve(kDiscreteControllerBlock);
     names_.reserve(kSmoothTargetBlock);
 
-    out_.header = "Generated by mbx from " + quoted(settings.model_name) +
+    out_.header = "Generated by mbx from " + quoted_identifier(settings.model_name) +
                   ". Do not edit: every export rewrites this file.\n"
                   "The drives and joint dynamics of the mechanism acting on Mechanics; put your changes in "
                   "UserModel.mo.";
     out_.within = package_;
     out_.name = "Mechatronic";
-    out_.description = "Drives and joint dynamics of " + quoted(settings.model_name) +
+    out_.description = "Drives and joint dynamics of " + quoted_identifier(settings.model_name) +
                        " on its multibody model (generated by mbx)";
     ModelicaComponent mechanics;
     mechanics.class_name = package_ + ".Mechanics";

@@ -13,6 +13,9 @@ namespace mbx {
 // escaped, so CAD names can go into description strings verbatim.
 std::string modelica_string(std::string_view text);
 
+// A Modelica quoted identifier ('name'): any CAD name becomes a component name.
+inline std::string quoted_identifier(const std::string& name) { return "'" + name + "'"; }
+
 // The package (and directory) name for a model: a sanitized identifier with a
 // capital first letter, never a keyword nor a name that would hide the MSL.
 std::string modelica_package_name(std::string_view model_name);

@@ -1,4 +1,5 @@
 #include "mesh_file.h"
+#include "host_adapters/common/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -16,11 +17,6 @@
 namespace mbx_files {
 namespace fs = std::filesystem;
 namespace {
-
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, mbx_memory::Mesh& out) {
     const aiMatrix4x4 world = parent * node.mTransformation;
@@ -59,7 +55,7 @@ const std::map<std::string, std::string>* MeshFileFinder::listing(const std::str
             // does not depend on the order the file system lists them in.
             std::sort(names.begin(), names.end());
             map.emplace();
-            for (const std::string& n : names) map->emplace(lower(n), n);
+            for (const std::string& n : names) map->emplace(lower_case(n), n);
         }
         found = listings_.emplace(directory, std::move(map)).first;
     }
@@ -83,7 +79,7 @@ std::string MeshFileFinder::find(const std::string& name) {
         if (fs::is_regular_file(fs::path(directory) / file, ec)) return (fs::path(directory) / file).string();
         const std::map<std::string, std::string>* names = listing(directory);
         if (!names) continue;
-        const auto it = names->find(lower(file));
+        const auto it = names->find(lower_case(file));
         if (it != names->end()) return (fs::path(directory) / it->second).string();
     }
     return {};
@@ -101,7 +97,7 @@ bool probe_mesh_file(const std::string& path, std::string& why) {
         why = ec ? "cannot read its size: " + ec.message() : std::string("the file is empty");
         return false;
     }
-    if (lower(fs::path(path).extension().string()) != ".stl") return true;
+    if (lower_case(fs::path(path).extension().string()) != ".stl") return true;
     char head[1024] = {};
     in.read(head, sizeof head);
     const size_t got = size_t(in.gcount());
@@ -110,7 +106,7 @@ bool probe_mesh_file(const std::string& path, std::string& why) {
         for (int i = 3; i >= 0; --i) count = (count << 8) | static_cast<unsigned char>(head[80 + i]);
         if (uintmax_t(84) + uintmax_t(50) * count == size && count > 0) return true;
     }
-    const std::string text = lower(std::string(head, got));
+    const std::string text = lower_case(std::string(head, got));
     const size_t first = text.find_first_not_of(" \t\r\n");
     if (first == std::string::npos || text.compare(first, 5, "solid") != 0 || text.find("facet") == std::string::npos) {
         why = "it is neither a binary STL (84 bytes plus 50 per triangle) nor an ASCII STL ('solid' ... 'facet')";
@@ -123,7 +119,7 @@ bool probe_mesh_file(const std::string& path, std::string& why) {
     in.clear();
     in.seekg(std::streamoff(size - tail_size));
     in.read(tail, std::streamsize(tail_size));
-    if (lower(std::string(tail, size_t(in.gcount()))).find("endsolid") == std::string::npos) {
+    if (lower_case(std::string(tail, size_t(in.gcount()))).find("endsolid") == std::string::npos) {
         why = "the ASCII STL is cut off (no 'endsolid' at its end)";
         return false;
     }

@@ -15,6 +15,7 @@
 //  - With all bodies on one point (or one body) there is no extent to take
 //    1e-4 of; positions must then agree to about 1e-9 relative.
 #include "shape_matching.h"
+#include "host_adapters/common/text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -160,11 +161,6 @@ std::string stem(const std::string& name) {
     return s;
 }
 
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
 // Candidates whose body name equals `name` (ignoring case), or failing that
 // shares its stem; an exact name is the stronger evidence when "Obj01" and
 // "Obj02" sit on the same pose.
@@ -172,9 +168,9 @@ std::vector<int> by_name(const std::vector<BodyPose>& bodies, const std::vector<
                          const std::string& name) {
     std::vector<int> out;
     if (name.empty()) return out;
-    const std::string wanted = lower(name);
+    const std::string wanted = lower_case(name);
     for (int b : candidates)
-        if (lower(bodies[size_t(b)].name) == wanted) out.push_back(b);
+        if (lower_case(bodies[size_t(b)].name) == wanted) out.push_back(b);
     if (!out.empty()) return out;
     const std::string wanted_stem = stem(name);
     if (wanted_stem.empty()) return out;

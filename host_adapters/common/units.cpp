@@ -4,6 +4,7 @@
 #include <charconv>
 
 #include "numbers.h"
+#include "host_adapters/common/text.h"
 
 namespace mbx_files {
 namespace {
@@ -55,12 +56,6 @@ Dimension expected(Quantity q) {
     return {};
 }
 
-std::string lower(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return out;
-}
-
 }  // namespace
 
 const char* quantity_name(Quantity quantity) {
@@ -81,7 +76,7 @@ const char* quantity_name(Quantity quantity) {
 
 double unit_to_si(std::string_view unit, Quantity quantity) {
     const std::string quoted = "'" + std::string(unit) + "'";
-    const std::string text = lower(trim(unit));
+    const std::string text = lower_case(trim(unit));
     if (text.empty()) throw UnitError("empty " + std::string(quantity_name(quantity)) + " unit");
     double factor = 1.0;
     Dimension dim;

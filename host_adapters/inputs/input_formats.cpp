@@ -6,6 +6,7 @@
 
 #include "host_adapters/common/file_error.h"
 #include "host_adapters/pmxml_vrml/file_adapter.h"
+#include "host_adapters/common/text.h"
 
 namespace mbx_files {
 
@@ -19,9 +20,7 @@ std::string lower_extension(const std::string& path) {
     const size_t slash = path.find_last_of('/');
     const size_t dot = path.find_last_of('.');
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-    std::string ext = path.substr(dot);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext;
+    return lower_case(path.substr(dot));
 }
 
 // The first element's name in an XML file, its namespace prefix dropped; ""

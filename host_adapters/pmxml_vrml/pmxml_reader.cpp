@@ -22,6 +22,7 @@
 #include "pmxml_outline.h"
 #include "pmxml_part_tree.h"
 #include "host_adapters/common/units.h"
+#include "host_adapters/common/text.h"
 
 namespace mbx_files {
 namespace {
@@ -45,13 +46,7 @@ std::string_view unquote(std::string_view text) {
     return trim(text);
 }
 
-std::string lower(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return out;
-}
-
-// lower(text) == lowered, without building the lowered copy.
+// lower_case(text) == lowered, without building the lowered copy.
 bool equals_lowered(std::string_view text, std::string_view lowered) {
     if (text.size() != lowered.size()) return false;
     for (size_t i = 0; i < text.size(); ++i)
@@ -714,7 +709,7 @@ private:
                         " (known: weld, prismatic, revolute, spherical)");
         // A weld's axis is a dummy and a spherical joint has none.
         if (prim.type != MBX_PRIMITIVE_REVOLUTE && prim.type != MBX_PRIMITIVE_PRISMATIC) return prim;
-        const std::string name = lower(raw_name);
+        const std::string name = lower_case(raw_name);
         if (const Node reference = c[1]) {
             const std::string_view value = text(reference);
             if (!value.empty() && !equals_lowered(value, "world"))

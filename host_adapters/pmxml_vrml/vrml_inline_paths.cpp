@@ -1,4 +1,5 @@
 #include "vrml_inline_paths.h"
+#include "host_adapters/common/text.h"
 
 #include <cctype>
 #include <filesystem>
@@ -11,11 +12,6 @@ namespace {
 
 // A directory with more entries than this is matched by exact name only.
 constexpr size_t max_listing = 100000;
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 int hex_digit(char c) {
     if (c >= '0' && c <= '9') return c - '0';
@@ -57,7 +53,7 @@ std::string local_part(const std::string& url, bool& remote) {
         if (!std::isalpha(static_cast<unsigned char>(s[i])) && s[i] != '+' && s[i] != '-' && s[i] != '.')
             has_scheme = false;
     if (has_scheme) {
-        if (lower(s.substr(0, colon)) != "file") {
+        if (lower_case(s.substr(0, colon)) != "file") {
             remote = true;
             return {};
         }
@@ -115,7 +111,7 @@ const std::unordered_map<std::string, std::string>& InlineResolver::listing(cons
         for (fs::directory_iterator d(dir, ec), end; !ec && d != end && it->second.size() < max_listing;
              d.increment(ec)) {
             const std::string name = d->path().filename().string();
-            it->second.emplace(lower(name), name);
+            it->second.emplace(lower_case(name), name);
         }
     }
     return it->second;
@@ -134,7 +130,7 @@ std::string InlineResolver::find_ignoring_case(const std::string& base, const st
             continue;
         }
         const auto& entries = listing(at.lexically_normal().string());
-        const auto match = entries.find(lower(name));
+        const auto match = entries.find(lower_case(name));
         if (match == entries.end()) return {};
         at /= match->second;
     }

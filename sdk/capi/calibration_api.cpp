@@ -24,7 +24,6 @@ struct mbx_calibration {
 
 namespace {
 
-[[noreturn]] void bad_argument(const std::string& what) { throw Error(MBX_ERROR_INVALID_ARGUMENT, {}, what); }
 
 }  // namespace
 

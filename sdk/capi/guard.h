@@ -7,6 +7,11 @@
 
 namespace mbx {
 
+// A caller's argument the entry point cannot use (a null pointer, an index out of range).
+[[noreturn]] inline void bad_argument(const std::string& what) {
+    throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{}, what);
+}
+
 template <class Body>
 mbx_status guarded(mbx_context* context, Body&& body) {
     try {

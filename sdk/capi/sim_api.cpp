@@ -16,9 +16,6 @@ using namespace mbx::sim;
 
 namespace {
 
-[[noreturn]] void bad_argument(const std::string& what) {
-    throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{}, what);
-}
 
 const JointT<double>& joint_at(const Model& m, uint32_t index) {
     if (index >= m.joints.size())
