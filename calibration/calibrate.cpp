@@ -79,6 +79,20 @@ void score(const Experiment& e, const std::vector<Record>& records, const std::v
     step.simulated_validation = ref[1] > 0 ? 100 * std::sqrt(err[1] / ref[1]) : 0;
 }
 
+// Whether a later stage left the identified causes and their values as they were.
+bool same_causes(const Identification& a, const Identification& b) {
+    if (a.causes.size() != b.causes.size()) return false;
+    for (size_t i = 0; i < a.causes.size(); ++i) {
+        const SelectedCause &x = a.causes[i], &y = b.causes[i];
+        if (x.candidate.cause != y.candidate.cause || x.candidate.joint != y.candidate.joint ||
+            x.candidate.body != y.candidate.body || x.parameters.size() != y.parameters.size())
+            return false;
+        for (size_t k = 0; k < x.parameters.size(); ++k)
+            if (x.parameters[k].value != y.parameters[k].value) return false;
+    }
+    return true;
+}
+
 std::string step_label(const sim::Model& m, const SelectedCause& c) {
     if (c.candidate.body >= 0) return c.candidate.cause + " on body '" + m.bodies[size_t(c.candidate.body)].name + "'";
     return c.candidate.cause + " on joint '" + m.joints[size_t(c.candidate.joint)].name + "'";
@@ -145,7 +159,9 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     const RegressionRows validation = regression_rows(rigid, validation_records, options.identify, &fit.weight);
     out.identification = identify(rigid, fit, validation, options.identify);
     report(options, "identify", 0.5);
-    out.identification = transmission_stage(base_model, fit_records, validation_records, out.identification);
+    const Identification linear = out.identification;
+    out.identification = transmission_stage(base_model, fit_records, validation_records, linear);
+    if (!same_causes(linear, out.identification)) recompute_errors(out.identification, fit, validation);
     const Identification& id = out.identification;
 
     // Replays before any cause and after each: the simulated gain of every step.

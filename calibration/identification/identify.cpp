@@ -414,4 +414,23 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
     return out;
 }
 
+void recompute_errors(Identification& id, const RegressionRows& fit, const RegressionRows& validation) {
+    Eigen::VectorXd left_fit = fit.y(), left_validation = validation.y();
+    const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();
+    double before = id.baseline_validation_error;
+    for (SelectedCause& c : id.causes) {
+        for (auto [rows, left] : {std::pair{&fit, &left_fit}, std::pair{&validation, &left_validation}}) {
+            const Eigen::MatrixXd cols = c.candidate.columns(*rows);
+            for (Eigen::Index p = 0; p < cols.cols() && p < Eigen::Index(c.parameters.size()); ++p)
+                *left -= c.parameters[size_t(p)].value * cols.col(p);
+        }
+        c.fit_error = percent(left_fit.squaredNorm(), meas);
+        c.validation_error = percent(left_validation.squaredNorm(), meas_v);
+        c.validation_gain = before - c.validation_error;
+        before = c.validation_error;
+    }
+    id.final_fit_error = percent(left_fit.squaredNorm(), meas);
+    id.final_validation_error = percent(left_validation.squaredNorm(), meas_v);
+}
+
 }  // namespace mbx::calibration

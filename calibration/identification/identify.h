@@ -7,6 +7,8 @@
 // candidate is judged; two causes the data cannot tell apart are a warning
 // (docs/calibration.md, "Forward selection").
 #pragma once
+#include <cmath>
+
 #include "calibration/identification/causes.h"
 #include "calibration/identification/regression_rows.h"
 
@@ -29,7 +31,9 @@ struct SelectedCause {
 struct Identification {
     double baseline_fit_error = 0, baseline_validation_error = 0;  // %
     double final_fit_error = 0, final_validation_error = 0;        // %
-    double noise_level = 0;  // % of the effort that the filter removed (what no model explains)
+    // % of the effort no model explains. Not measured yet: NaN, which every
+    // output shows as "not measured", never as a figure.
+    double noise_level = NAN;
     std::vector<SelectedCause> causes;
     std::vector<std::string> warnings;
     std::vector<std::string> considered;  // candidates tried in the first round, with their gains
@@ -37,5 +41,13 @@ struct Identification {
 
 Identification identify(const sim::Model& m, const RegressionRows& fit, const RegressionRows& validation,
                         const IdentifyOptions& options);
+
+// The inverse-dynamics figures of `id`'s causes at their parameter values:
+// each cause's errors with it and every earlier one in the model, its gain in
+// percentage points over the step before, and the final errors. For a stage
+// after identify() that changed the causes or their values (the transmission
+// stage drops causes and refits the rest), whose figures would otherwise be
+// those of a cause set the model no longer has.
+void recompute_errors(Identification& id, const RegressionRows& fit, const RegressionRows& validation);
 
 }  // namespace mbx::calibration

@@ -441,8 +441,9 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
                          : r.mode == DriveMode::Effort ? "by the recorded effort"
                                                        : "free from the measured initial state";
     h += "<p>Experiment " + esc(shown_path(experiment.path)) + ", the model driven " + driven + ". Calibrated in " +
-         num(r.wall_time, 3) + " s. Noise level (what the filter removed from the effort): " + num(id.noise_level) +
-         " %.</p>\n<table><tr><th>record</th><th>role</th></tr>\n";
+         num(r.wall_time, 3) + " s." +
+         (std::isfinite(id.noise_level) ? " Noise level (what no model explains): " + num(id.noise_level) + " %." : "") +
+         "</p>\n<table><tr><th>record</th><th>role</th></tr>\n";
     for (size_t i = 0; i < r.record_paths.size(); ++i)
         h += "<tr><td>" + esc(shown_path(r.record_paths[i])) + "</td><td>" + role_name(r.record_roles[i]) + "</td></tr>\n";
     h += "</table>\n";

@@ -1,6 +1,7 @@
 // calibration.json: every number of the calibration in one file a script can
 // read, keyed by CAD ids like the description file.
 #include <algorithm>
+#include <cmath>
 
 #include "calibration/outputs/calibration_files.h"
 #include "calibration/outputs/calibration_files_detail.h"
@@ -165,7 +166,10 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
         }
         w.end_array();
         w.member("evidence", c.evidence);
-        w.member("validation_gain", c.validation_gain);
+        // What the step cut from the validation error, named with its unit:
+        // percentage points of effort error for a joint or body cause, the
+        // pose score (% of the body's size plus degrees) for a contact cause.
+        w.member(r.contact.ran ? "validation_gain_pose_score" : "validation_gain_percentage_points", c.validation_gain);
         w.key("identification").begin_object(JsonWriter::Layout::Inline);
         w.member("fit", c.fit_error).member("validation", c.validation_error);
         w.end_object();
@@ -183,7 +187,9 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
 
     w.key("final");
     errors(w, model, r, r.final_step());
-    w.member("noise_level", id.noise_level);
+    w.member("noise_level", id.noise_level);  // (null when not finite)
+    if (!std::isfinite(id.noise_level))
+        w.member("noise_level_note", "not measured: mbx does not yet measure the noise floor of the records");
 
     w.key("description").begin_object();
     w.key("joints").begin_array();

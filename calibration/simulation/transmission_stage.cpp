@@ -170,7 +170,9 @@ Identification add_backlash(const sim::Model& m, const std::vector<const Record*
        << best.joint << "' cuts the simulated position error on validation from " << percent(before) << " to "
        << percent(best.after);
     sc.evidence = ev.str();
-    // Its rigid limit is an armature: the inverse-dynamics figures stay the linear stage's.
+    // Its rigid limit is an armature. Until calibrate() recomputes every
+    // step's inverse-dynamics figures at the refitted values
+    // (recompute_errors), it has the linear stage's final ones and no gain.
     sc.fit_error = linear.final_fit_error, sc.validation_error = linear.final_validation_error;
     sc.validation_gain = 0;
     kept.push_back(sc);

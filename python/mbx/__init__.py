@@ -849,7 +849,8 @@ def read_trajectory_csv(path) -> dict:
 @dataclass
 class CalibrationSummary:
     """Errors in percent, 100 ||y - y_model|| / ||y||, before and after, on
-    the fit and validation records (``mbx_calibration_summary``)."""
+    the fit and validation records (``mbx_calibration_summary``).
+    ``noise_level`` is nan: mbx does not measure the records' noise floor yet."""
     cause_count: int
     warning_count: int
     baseline_fit_error: float

@@ -12,6 +12,7 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+
 namespace MBX_UNITY_ID {
 
 namespace {

@@ -10,6 +10,7 @@
 #include "cli_support.h"
 #include "stl_text.h"
 #include "tiny_pmxml.h"
+
 namespace MBX_UNITY_ID {
 
 namespace {

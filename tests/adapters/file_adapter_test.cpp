@@ -9,6 +9,7 @@
 #include "stl_text.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::FileAdapter;

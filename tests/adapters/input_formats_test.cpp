@@ -11,6 +11,7 @@
 #include "host_adapters/common/file_error.h"
 #include "host_adapters/inputs/input_formats.h"
 #include "tiny_pmxml.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::input_format_of;

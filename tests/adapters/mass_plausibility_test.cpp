@@ -18,6 +18,7 @@
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::FileAdapter;

@@ -7,6 +7,7 @@
 #include "adapter_test_support.h"
 #include "host_adapters/common/mesh_file.h"
 #include "stl_text.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::load_mesh_file;

@@ -9,6 +9,7 @@
 #include "host_adapters/pmxml_vrml/pmxml_assembly.h"
 #include "host_adapters/pmxml_vrml/pmxml_reader.h"
 #include "tiny_pmxml.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx_files;

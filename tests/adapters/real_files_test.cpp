@@ -14,6 +14,7 @@
 #include "adapter_test_support.h"
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "translation_support.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::FileAdapter;

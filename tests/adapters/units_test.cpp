@@ -6,6 +6,7 @@
 
 #include "host_adapters/common/numbers.h"
 #include "host_adapters/common/units.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::parse_number;

@@ -21,6 +21,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -21,6 +21,7 @@
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;
@@ -69,6 +70,7 @@ SelectedCause cause(const std::string& name, int joint, int body, const std::str
     c.parameters = {{parameter, value, std_error}};
     c.evidence = "residual correlates " + name + " <&> \"0.9\"";
     c.fit_error = fit, c.validation_error = validation;
+    c.validation_gain = 100 - validation;
     return c;
 }
 
@@ -232,10 +234,11 @@ assert c[1]["subject"]["kind"] == "joint" and c[1]["subject"]["id"] == "40:-:41"
 assert c[1]["parameters"] == [{"name": "damping", "value": 203.5, "std_error": 0.8}], c[1]["parameters"]
 assert c[0]["evidence"] == 'residual correlates coulomb_friction <&> "0.9"', c[0]["evidence"]
 assert c[2]["identification"] == {"fit": 3.8, "validation": 4.8}
+assert abs(c[2]["validation_gain_percentage_points"] - 95.2) < 1e-9 and "validation_gain_pose_score" not in c[2], c[2]
 assert c[2]["after"]["simulated"]["fit"] == 5.9 and c[2]["after"]["simulated"]["signals"][1]["relative"] == 9.0
 assert c[3]["subject"]["kind"] == "body" and c[3]["subject"]["id"] and not c[3]["in_description"] and c[2]["in_description"]
 assert d["final"]["simulated"]["validation"] == 8.94 and d["final"]["identification"]["fit"] == 3.7
-assert d["noise_level"] == 1.25 and d["wall_time"] == 4.25
+assert d["noise_level"] == 1.25 and "noise_level_note" not in d and d["wall_time"] == 4.25
 j = d["description"]["joints"][0]
 assert j["constraint_id"] == "40:-:41" and j["kind"] == "prismatic" and j["after"]["coulomb_negative"] == 19.1, j
 assert d["description"]["drives"] == [{"constraint_id": "40:-:41", "name": "axis", "delay_before": 0.001, "delay_after": 0.002}]
@@ -283,6 +286,7 @@ TEST_CASE("calibration files: calibration.html is one self-contained page with e
     CHECK(h.find("time [s]") != std::string::npos);
     CHECK(h.find("the validation record is short") != std::string::npos);
     CHECK(h.find("emps_test_pulses.csv (validation)") != std::string::npos);
+    CHECK(h.find("Noise level (what no model explains): 1.25 %") != std::string::npos);
     // A time axis over 0..2.99 s gets round ticks.
     CHECK(h.find(">1.5</text>") != std::string::npos);
     // Small: 600 trace points, 800 residual points.
@@ -445,6 +449,8 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
     CHECK(count(h, "https://") == 0);
     CHECK(count(h, "http://") == count(h, "<svg"));
     for (const SelectedCause& c : r.identification.causes) CHECK(h.find(c.candidate.cause) != std::string::npos);
+    // The records' noise floor is not measured: the page gives no figure for it.
+    CHECK(h.find("Noise level") == std::string::npos);
     // Thinned traces (~1500 points each) keep the page small.
     CHECK(h.size() < 1000000);
     MESSAGE("EMPS calibration.html: " << h.size() << " bytes, " << r.traces.size() << " traces, "
@@ -452,7 +458,9 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
     if (python3()) {
         const std::string cmd = "python3 -c 'import json,sys; d = json.load(open(sys.argv[1])); "
                                 "assert len(d[\"causes\"]) == " + std::to_string(r.identification.causes.size()) +
-                                "; assert d[\"baseline\"][\"simulated\"][\"signals\"]' " + out + "/calibration.json";
+                                "; assert d[\"baseline\"][\"simulated\"][\"signals\"]"
+                                "; assert d[\"noise_level\"] is None and \"not measured\" in d[\"noise_level_note\"]' " +
+                                out + "/calibration.json";
         CHECK(std::system(cmd.c_str()) == 0);
     }
 

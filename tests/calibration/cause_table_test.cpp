@@ -18,6 +18,7 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

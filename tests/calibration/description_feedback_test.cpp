@@ -12,6 +12,7 @@
 #include "hidden_effects.h"
 #include "core/mechatronics/drive_file.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

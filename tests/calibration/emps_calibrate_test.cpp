@@ -10,6 +10,7 @@
 #include "calibration/calibrate.h"
 #include "tests/export/drives_support.h"
 #include "tests/export/export_fixture.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -12,6 +12,7 @@
 #include "tests/export/drives_support.h"
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -23,6 +23,7 @@
 #include "sim/loop_closure.h"
 #include "sim/simulation.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

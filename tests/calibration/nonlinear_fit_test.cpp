@@ -18,6 +18,7 @@
 #include "sim/simulation.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

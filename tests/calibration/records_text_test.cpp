@@ -9,6 +9,7 @@
 
 #include "calibration/records/records.h"
 #include "core/finding.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx::calibration;

@@ -15,6 +15,7 @@
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

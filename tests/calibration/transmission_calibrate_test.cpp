@@ -17,6 +17,7 @@
 #include "sim/resolved_joint_dynamics.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

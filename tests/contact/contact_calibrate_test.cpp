@@ -15,6 +15,7 @@
 #include "cube_tosses.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;
@@ -129,6 +130,9 @@ TEST_CASE("contact stage: calibrate() on the tosses names what the C++ contact f
     const std::string json = calibration::calibration_json(cube.model, e, r);
     CHECK(json.find("\"contact\": {") != std::string::npos);
     CHECK(json.find("\"cause\": \"contact_friction\"") != std::string::npos);
+    // A contact cause's gain is a pose score, and its key says so.
+    CHECK(json.find("\"validation_gain_pose_score\": ") != std::string::npos);
+    CHECK(json.find("validation_gain_percentage_points") == std::string::npos);
     CHECK(calibration::calibration_html(cube.model, e, r).find("contact_friction") != std::string::npos);
     std::ofstream(dir.file("input.xml"))
         << "<mechatronics version=\"1\">\n  <collision body=\"world\" shape=\"plane\"/>\n"

@@ -14,6 +14,7 @@
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
 #include "sim/dynamics.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -7,6 +7,7 @@
 
 #include "core/finding.h"
 #include "sim/contact/convex_hull.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx::sim::contact;

@@ -12,6 +12,7 @@
 #include "core/finding.h"
 #include "cube_tosses.h"
 #include "tests/common/slow_build.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -10,6 +10,7 @@
 #include <doctest/doctest.h>
 
 #include "cube_tosses.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

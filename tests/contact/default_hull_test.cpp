@@ -21,6 +21,7 @@
 #include "sim/contact/convex_hull.h"
 #include "sim/contact/detection.h"
 #include "sim/dynamics.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -11,6 +11,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/detection.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

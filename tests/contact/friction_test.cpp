@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sim/contact/friction.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx::sim::contact;

@@ -10,6 +10,7 @@
 
 #include "core/finding.h"
 #include "sim/contact/normal_force.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx::sim::contact;

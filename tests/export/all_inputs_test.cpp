@@ -14,6 +14,7 @@
 #include "export_fixture.h"
 #include "tests/common/file_text.h"
 #include "test_inputs.h"
+
 namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;

@@ -14,6 +14,7 @@
 #include "core/mechatronics/drive_controller.h"
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

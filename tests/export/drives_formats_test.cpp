@@ -13,6 +13,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

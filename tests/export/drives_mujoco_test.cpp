@@ -15,6 +15,7 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

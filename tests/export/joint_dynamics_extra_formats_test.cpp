@@ -18,6 +18,7 @@
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "export_fixture.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

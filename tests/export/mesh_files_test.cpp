@@ -12,6 +12,7 @@
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 #include "tests/common/file_text.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -5,6 +5,7 @@
 #include "export_fixture.h"
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -17,6 +17,7 @@
 #include "export/mjcf/mjcf_contact.h"
 #include "mujoco_helpers.h"
 #include "../../sim/contact/parameter_conversion.h"
+
 namespace MBX_UNITY_ID {
 
 namespace {

@@ -7,6 +7,7 @@
 #include "export/mjcf/mjcf_defaults.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

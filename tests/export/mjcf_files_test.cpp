@@ -11,6 +11,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

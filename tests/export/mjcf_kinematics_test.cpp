@@ -8,6 +8,7 @@
 #include "export/common/names.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

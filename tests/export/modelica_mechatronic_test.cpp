@@ -17,6 +17,7 @@
 #include "export/modelica/mechanics_writer.h"
 #include "export/modelica/mechatronic_writer.h"
 #include "modelica_support.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -15,6 +15,7 @@
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 #include "sim/contact/convex_hull.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -10,6 +10,7 @@
 #include "core/mechatronics/contact_description.h"
 #include "mesh_readback.h"
 #include "urdf_consumer.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

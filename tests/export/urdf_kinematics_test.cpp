@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "urdf_consumer.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -12,6 +12,7 @@
 
 #include "apps/stub_host/assemblies/builder.h"
 #include "urdf_consumer.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace urdf_test;

@@ -7,6 +7,7 @@
 
 #include "support/plugin_fixture.h"
 #include "support/stub_geometry.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

@@ -16,6 +16,7 @@
 #include "apps/stub_host/assemblies/builder.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

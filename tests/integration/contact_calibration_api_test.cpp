@@ -17,6 +17,7 @@
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
 #include "../common/slow_build.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "support/plugin_fixture.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

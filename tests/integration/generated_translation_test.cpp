@@ -7,6 +7,7 @@
 
 #include "support/fingerprint.h"
 #include "support/plugin_fixture.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

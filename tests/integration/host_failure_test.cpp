@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "support/plugin_fixture.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

@@ -10,6 +10,7 @@
 #include "../common/file_text.h"
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

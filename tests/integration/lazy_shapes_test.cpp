@@ -10,6 +10,7 @@
 
 #include "support/plugin_fixture.h"
 #include "support/stub_geometry.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

@@ -12,6 +12,7 @@
 #include "support/temp_dir.h"
 #include "support/plugin_fixture.h"
 #include "../common/file_text.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

@@ -16,6 +16,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

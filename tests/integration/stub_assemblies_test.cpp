@@ -11,6 +11,7 @@
 #include "support/expected_builtins.h"
 #include "support/screw_mobility.h"
 #include "support/stub_geometry.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace itest;

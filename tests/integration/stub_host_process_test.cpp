@@ -16,6 +16,7 @@
 
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+
 namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;

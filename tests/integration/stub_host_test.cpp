@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/stub_host/assemblies/stub_assembly.h"
+
 namespace MBX_UNITY_ID {
 
 namespace {

@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include "scene_builder.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace matching_test;

@@ -13,6 +13,7 @@
 #include "samples/tools/generate_pmxml.h"
 #include "temp_dir.h"
 #include "translation.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace samples_test;

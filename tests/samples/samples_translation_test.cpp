@@ -9,6 +9,7 @@
 #include "sample_expectations.h"
 #include "temp_dir.h"
 #include "translation.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace samples_test;

@@ -9,6 +9,7 @@
 
 #include "samples/tools/samples.h"
 #include "temp_dir.h"
+
 namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;

@@ -9,6 +9,7 @@
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 #include "sim/simulation.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -15,6 +15,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -10,6 +10,7 @@
 #include "tests/export/mujoco_assemblies.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -8,6 +8,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "tests/export/test_inputs.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

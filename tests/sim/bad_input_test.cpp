@@ -9,6 +9,7 @@
 #include "sim/simulation.h"
 #include "sim_cut_check.h"
 #include "tests/export/test_inputs.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -8,6 +8,7 @@
 #include "sim/build_model.h"
 #include "sim/integrator.h"
 #include "sim/simulation.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -14,6 +14,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/integrator.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

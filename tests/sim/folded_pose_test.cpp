@@ -11,6 +11,7 @@
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
 #include "tests/export/test_inputs.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

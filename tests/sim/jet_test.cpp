@@ -12,6 +12,7 @@
 #include "sim/build_model.h"
 #include "calibration/simulation/fit_scalar.h"
 #include "sim/joint_forces.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -14,6 +14,7 @@
 #include "sim/data.h"
 #include "sim/integrator.h"
 #include "sim/resolved_joint_dynamics.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -19,6 +19,7 @@
 #include "sim/integrator.h"
 #include "sim/joint_forces.h"
 #include "sim/resolved_joint_dynamics.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -8,6 +8,7 @@
 #include "sim/dynamics.h"
 #include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

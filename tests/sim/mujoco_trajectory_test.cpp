@@ -9,6 +9,7 @@
 #include "sim/simulation.h"
 #include "tests/export/test_inputs.h"
 #include "sim_mujoco_support.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

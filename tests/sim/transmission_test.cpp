@@ -15,6 +15,7 @@
 #include "sim/resolved_joint_dynamics.h"
 #include "sim/simulation.h"
 #include "sim/transmission.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <unistd.h>
+
 namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/mechatronics/drive_controller.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 #include "core/translator/translate.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

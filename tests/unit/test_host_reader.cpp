@@ -5,6 +5,7 @@
 
 #include "core/assembly/host_reader.h"
 #include "apps/stub_host/assemblies/stub_assembly.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

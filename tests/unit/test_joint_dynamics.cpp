@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "core/mechatronics/drive_file.h"
 #include "core/translator/translate.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

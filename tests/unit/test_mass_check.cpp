@@ -3,6 +3,7 @@
 #include "core/assembly/shape_loader.h"
 #include "assembly_builder.h"
 #include "core/translator/translate.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

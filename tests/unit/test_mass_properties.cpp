@@ -2,6 +2,7 @@
 
 #include "core/translator/mass_properties.h"
 #include "assembly_builder.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/geometry/mesh_properties.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -10,6 +10,7 @@
 #include "core/mobility/mobility.h"
 #include "core/mobility/rank.h"
 #include "core/mobility/twist.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

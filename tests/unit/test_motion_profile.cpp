@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/mechatronics/motion_profile.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -8,6 +8,7 @@
 
 #include "core/mechatronics/drive_quantities.h"
 #include "core/mechatronics/object_library.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

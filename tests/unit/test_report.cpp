@@ -12,6 +12,7 @@
 
 #include "core/report/report.h"
 #include "../common/file_text.h"
+
 namespace MBX_UNITY_ID {
 
 using nlohmann::json;

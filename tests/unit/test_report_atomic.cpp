@@ -13,6 +13,7 @@
 #include "core/finding.h"
 #include "core/report/atomic_file.h"
 #include "../common/file_text.h"
+
 namespace MBX_UNITY_ID {
 
 namespace fs = std::filesystem;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/report/json_writer.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx::JsonWriter;

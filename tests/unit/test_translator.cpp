@@ -4,6 +4,7 @@
 
 #include "assembly_builder.h"
 #include "core/translator/translate.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

@@ -17,6 +17,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "view/view_page.h"
+
 namespace MBX_UNITY_ID {
 
 using namespace mbx;

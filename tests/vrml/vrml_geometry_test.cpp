@@ -6,6 +6,7 @@
 
 #include "host_adapters/pmxml_vrml/vrml_primitives.h"
 #include "vrml_test_support.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::VrmlMesh;

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+
 namespace MBX_UNITY_ID {
 
 using mbx_files::read_vrml;
