@@ -16,6 +16,7 @@
 
 #include "../common/temp_dir.h"
 #include "../common/file_text.h"
+#include "tests/common/skip.h"
 
 namespace atest {
 
@@ -92,7 +93,7 @@ inline std::string pmxml_data_dir() {
     const std::filesystem::path dir = std::filesystem::path(MBX_SHARED_DIR) / "data" / "pmxml";
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec)) {
-        MESSAGE("skipped: the real PMXML files are not at " << dir.string());
+        mbx_test::record_skip("the real PMXML files are not at " + dir.string());
         return {};
     }
     return dir.string();

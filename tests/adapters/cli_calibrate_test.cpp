@@ -10,6 +10,7 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -60,8 +61,8 @@ TEST_CASE("cli calibrate: EMPS names friction and the offset, and its descriptio
     INFO(again.out << again.err);
     REQUIRE(again.code == 0);
     const auto [fit1, validation1] = replay_errors(again.out, "baseline error ");
-    CHECK(fit1 == doctest::Approx(fit).epsilon(0.01));
-    CHECK(validation1 == doctest::Approx(validation).epsilon(0.01));
+    CHECK(fit1 == mbx_test::relative(fit, 0.01));
+    CHECK(validation1 == mbx_test::relative(validation, 0.01));
 }
 
 TEST_CASE("cli calibrate: usage errors and bad experiments exit non-zero and write nothing") {

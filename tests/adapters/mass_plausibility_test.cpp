@@ -18,6 +18,7 @@
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "tiny_pmxml.h"
 #include "translation_support.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -90,7 +91,7 @@ TEST_CASE("mass plausibility: real exports' densities are as their XML says; onl
         std::sort(want.begin(), want.end());
         REQUIRE(got.size() == want.size());
         REQUIRE(!got.empty());
-        for (size_t i = 0; i < got.size(); ++i) CHECK(got[i] == doctest::Approx(want[i]).epsilon(1e-12));
+        for (size_t i = 0; i < got.size(); ++i) CHECK(got[i] == mbx_test::relative(want[i], 1e-12));
         MESSAGE(std::string(file) << ": " << got.size() << " parts, density " << got.front() << " to " << got.back() << " kg/m^3");
     }
 }
@@ -131,7 +132,7 @@ TEST_CASE("mass plausibility: the volume's own unit is honoured (in^3 in a mm fi
         for (const auto& b : adapter->assembly().bodies)
             if (b.id == "12") {
                 found = true;
-                CHECK(b.volume == doctest::Approx(1.5e5).epsilon(1e-5));
+                CHECK(b.volume == mbx_test::relative(1.5e5, 1e-5));
             }
         CHECK(found);
         atest::Translation t(adapter->table(), 0);

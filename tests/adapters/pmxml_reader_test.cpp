@@ -9,6 +9,7 @@
 #include "host_adapters/pmxml_vrml/pmxml_assembly.h"
 #include "host_adapters/pmxml_vrml/pmxml_reader.h"
 #include "tiny_pmxml.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -81,9 +82,9 @@ TEST_CASE("pmxml: the tiny model reads with ids, flags, subsystems and global re
 
     // Units per quantity: LINK is in lbm and lbm*in^2 while lengths are mm.
     const PmxmlBody& link = body_named(m, "SUB/31");
-    CHECK(link.mass_to_kg == doctest::Approx(0.45359237));
-    CHECK(link.inertia_to_kg_m2 == doctest::Approx(0.45359237 * 0.0254 * 0.0254));
-    CHECK(m.frames[size_t(link.cs1)].length_to_m == doctest::Approx(0.001));
+    CHECK(link.mass_to_kg == mbx_test::relative(0.45359237, 1e-6));
+    CHECK(link.inertia_to_kg_m2 == mbx_test::relative(0.45359237 * 0.0254 * 0.0254, 1e-6));
+    CHECK(m.frames[size_t(link.cs1)].length_to_m == mbx_test::relative(0.001, 1e-6));
     CHECK(link.com.isApprox(Eigen::Vector3d(50, 0, 0)));
 }
 
@@ -151,7 +152,7 @@ TEST_CASE("pmxml: host view has world frames with their own units and WORLD axes
     CHECK(a.constraints[1].follower_frame_id == "12::CS2");
     CHECK(a.constraints[1].chain[0].axis_reference == MBX_AXIS_IN_WORLD);
     CHECK(a.constraints[2].host_status == "Could not solve for constraint");
-    CHECK(a.bodies[4].units.mass_to_kg == doctest::Approx(0.45359237));
+    CHECK(a.bodies[4].units.mass_to_kg == mbx_test::relative(0.45359237, 1e-6));
     CHECK(a.bodies[4].units.length_to_m == 0.001);
 }
 

@@ -21,6 +21,7 @@
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -73,18 +74,18 @@ TEST_CASE("body quantities: the arm's tip, forearm turn and rates are the analyt
         d.q[s] = q1, d.q[e] = q2, d.v[s] = v1, d.v[e] = v2;
         kin.update(d);
         for (int k = 0; k < 3; ++k) {
-            CHECK(kin.value(Quantity::Position, forearm, k, tip) == doctest::Approx(arm_tip(q1, q2)[k]).epsilon(1e-12));
+            CHECK(kin.value(Quantity::Position, forearm, k, tip) == mbx_test::relative_to(arm_tip(q1, q2)[k], arm_tip(q1, q2).norm(), 1e-12));
             CHECK(kin.value(Quantity::Position, forearm, k, Eigen::Vector3d::Zero()) ==
-                  doctest::Approx(arm_elbow(q1)[k]).epsilon(1e-12));
+                  mbx_test::relative_to(arm_elbow(q1)[k], arm_elbow(q1).norm(), 1e-12));
             CHECK(kin.value(Quantity::Velocity, forearm, k, tip) ==
-                  doctest::Approx(arm_tip_velocity(q1, q2, v1, v2)[k]).epsilon(1e-12));
+                  mbx_test::relative_to(arm_tip_velocity(q1, q2, v1, v2)[k], arm_tip_velocity(q1, q2, v1, v2).norm() + 1.0, 1e-12));
         }
         // A turn by q1 + q2 about +y: (cos(a/2), 0, sin(a/2), 0), w >= 0 when nothing measured says otherwise.
         const double a = q1 + q2, sign = std::cos(a / 2) < 0 ? -1 : 1;
-        CHECK(kin.value(Quantity::Orientation, forearm, 0, {}) == doctest::Approx(sign * std::cos(a / 2)).epsilon(1e-12));
+        CHECK(kin.value(Quantity::Orientation, forearm, 0, {}) == mbx_test::relative_to(sign * std::cos(a / 2), 1.0, 1e-12));
         CHECK(std::abs(kin.value(Quantity::Orientation, forearm, 1, {})) < 1e-12);
-        CHECK(kin.value(Quantity::Orientation, forearm, 2, {}) == doctest::Approx(sign * std::sin(a / 2)).epsilon(1e-12));
-        CHECK(kin.value(Quantity::AngularVelocity, forearm, 1, {}) == doctest::Approx(v1 + v2).epsilon(1e-12));
+        CHECK(kin.value(Quantity::Orientation, forearm, 2, {}) == mbx_test::relative_to(sign * std::sin(a / 2), 1.0, 1e-12));  // a unit quaternion
+        CHECK(kin.value(Quantity::AngularVelocity, forearm, 1, {}) == mbx_test::relative_to(v1 + v2, std::abs(v1) + std::abs(v2) + 1.0, 1e-12));
         CHECK(std::abs(kin.value(Quantity::AngularVelocity, forearm, 0, {})) < 1e-12);
     }
 }
@@ -137,7 +138,7 @@ TEST_CASE("body quantities: a free swing of the arm replayed, its tip compared i
     const std::vector<Record> records = load_records(ex, m);
     REQUIRE(records[0].body_signals.size() == 5);
     // mm to m on the way in.
-    CHECK(records[0].body_signals[0].values[0] == doctest::Approx(arm_tip(0.9, -0.6).x()).epsilon(1e-9));
+    CHECK(records[0].body_signals[0].values[0] == mbx_test::relative(arm_tip(0.9, -0.6).x(), 1e-9));
     const std::vector<ComparedSignal> compared = compared_signals(ex, m);
     const std::vector<std::vector<double>> sim = replay(m, ex, records[0], compared, ReplayAdjustments(m.nv));
     for (size_t c = 0; c < compared.size(); ++c) {
@@ -259,7 +260,7 @@ TEST_CASE("body quantities: MuJoCo's forearm pose along its motion, and the effo
         if (tr.body == forearm) {
             ++body_traces;
             CHECK(tr.t.size() == tr.calibrated.size());
-            if (tr.quantity == Quantity::Position) CHECK(tr.point.z() == doctest::Approx(-0.25));
+            if (tr.quantity == Quantity::Position) CHECK(tr.point.z() == mbx_test::relative(-0.25, 1e-6));
         }
     CHECK(body_traces == 4);
     const std::string json = calibration_json(m, ex, r);
@@ -290,7 +291,7 @@ TEST_CASE("body quantities: the EMPS carriage's position in closed loop is the s
     d.q[0] = 0.1;
     kin.update(d);
     const Eigen::Vector3d axis = (kin.position(carriage, Eigen::Vector3d::Zero()) - p0) / 0.1;
-    CHECK(axis.norm() == doctest::Approx(1).epsilon(1e-12));
+    CHECK(axis.norm() == mbx_test::relative(1, 1e-12));
     int along = 0;
     for (int k = 1; k < 3; ++k)
         if (std::abs(axis[k]) > std::abs(axis[along])) along = k;
@@ -332,7 +333,7 @@ TEST_CASE("body quantities: the EMPS carriage's position in closed loop is the s
     CHECK(worst < 1e-12);
     // Measured against simulated: the same error as the joint's.
     CHECK(relative_error(*measured_values(records[0], compared[1]), sim[1]) ==
-          doctest::Approx(relative_error(*measured_values(records[0], compared[0]), sim[0]) *
+          mbx_test::relative(relative_error(*measured_values(records[0], compared[0]), sim[0]) *
                           std::sqrt([&] {
                               double a = 0, b = 0;
                               for (size_t k = 0; k < records[0].t.size(); ++k) {
@@ -341,8 +342,7 @@ TEST_CASE("body quantities: the EMPS carriage's position in closed loop is the s
                                   b += std::pow(p0[along] + q * axis[along], 2);
                               }
                               return a / b;
-                          }()))
-              .epsilon(1e-6));
+                          }()), 1e-6));
 }
 
 TEST_CASE("body quantities: the experiment file refuses what it cannot bind, with the file and line") {

@@ -21,6 +21,8 @@
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -177,7 +179,7 @@ ReadBack read_back(const Mechanism& mech, const std::string& path) {
 void check_joint(const ResolvedJointDynamics& r, const JointUpdate& u, double eps) {
     const sim::JointDynamics& d = u.after;
     // SI values are written in their shortest round-trip form: bit for bit.
-    auto same = [eps](double a, double b) { return eps == 0 ? a == b : a == doctest::Approx(b).epsilon(eps); };
+    auto same = [eps](double a, double b) { return eps == 0 ? a == b : a == mbx_test::relative(b, eps); };
     CHECK(r.joint == u.mechanism_joint);
     CHECK(same(r.damping, d.damping));
     CHECK(same(r.coulomb, d.coulomb));
@@ -212,7 +214,7 @@ TEST_CASE("calibration files: calibration.json parses and holds the errors, caus
     write_calibration_files(out, f.mech, f.model, f.experiment, r, kDescription);
     CHECK(files_in(out) == std::vector<std::string>{"calibration.html", "calibration.json", "description.xml"});
     if (!python3()) {
-        MESSAGE("python3 not found: calibration.json is not parsed");
+        MBX_SKIP_PART("python3 not found: calibration.json is not parsed");
         return;
     }
     // The checks run in Python's own JSON parser: a string escaped wrongly or
@@ -323,7 +325,7 @@ TEST_CASE("calibration files: description.xml round-trips through the SDK's read
     CHECK(b.drives[0].spec.controller.delay == 0.002);
     CHECK(b.drives[0].spec.controller.kp == 160.18);
     CHECK(b.drives[0].spec.motion.points().size() == 4);
-    CHECK(b.drives[0].armature == doctest::Approx(f.model.drives[0].armature).epsilon(1e-12));
+    CHECK(b.drives[0].armature == mbx_test::relative(f.model.drives[0].armature, 1e-12));
     REQUIRE(b.joints.size() == 1);
     check_joint(b.joints[0], r.joints[0], 0);
     CHECK_FALSE(b.joints[0].limited);
@@ -357,8 +359,8 @@ TEST_CASE("calibration files: description.xml edits an existing <joint> in its u
     check_joint(b.joints[0], r.joints[0], 1e-14);
     // The limits are the input's, in its millimetres.
     CHECK(b.joints[0].limited);
-    CHECK(b.joints[0].lower == doctest::Approx(-0.1));
-    CHECK(b.joints[0].upper == doctest::Approx(0.3));
+    CHECK(b.joints[0].lower == mbx_test::relative(-0.1, 1e-6));
+    CHECK(b.joints[0].upper == mbx_test::relative(0.3, 1e-6));
     // Positions and speeds in the element's unit: 37.5 mm rest, 13 mm/s Stribeck speed.
     CHECK(text.find("rest=\"37.5") != std::string::npos);
     CHECK(text.find("stribeck_velocity=\"13") != std::string::npos);
@@ -480,8 +482,7 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
     // reproduces the calibrated errors. Causes the file cannot hold are
     // replay adjustments only, and would be missing here.
     if (!r.unwritten.empty()) {
-        MESSAGE("skipping the replay check: " << r.unwritten.size() << " cause(s) not in the description");
-        return;
+        MBX_SKIP("the replay check: " << r.unwritten.size() << " cause(s) not in the description");
     }
     sim::BuildOptions options;
     options.drives = b.drives;
@@ -503,7 +504,7 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
             const double relative = 100 * std::sqrt(e / n);
             INFO(rec.path << ": " << relative << " % from description.xml, " << r.final_step().simulated[k].relative
                              << " % calibrated");
-            CHECK(relative == doctest::Approx(r.final_step().simulated[k].relative).epsilon(1e-9));
+            CHECK(relative == mbx_test::relative(r.final_step().simulated[k].relative, 1e-9));
         }
     }
     CHECK(k == r.final_step().simulated.size());

@@ -18,6 +18,7 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -128,10 +129,10 @@ TEST_CASE("calibration: the catalogue offers the table's causes on their subject
     for (Eigen::Index s = 0; s < S; s += 97) {
         CAPTURE(s);
         const double w = rows.weight[1];
-        CHECK(viscous(s * A + 1, 0) == doctest::Approx(w * rows.qd(s, dof)).epsilon(1e-12));
-        CHECK(offset(s * A + 1, 0) == doctest::Approx(w).epsilon(1e-12));
-        CHECK(armature(s * A + 1, 0) == doctest::Approx(w * rows.qdd(s, dof)).epsilon(1e-12));
-        CHECK(gain(s * A + 1, 0) == doctest::Approx(w * rows.effort(s, 1)).epsilon(1e-12));
+        CHECK(viscous(s * A + 1, 0) == mbx_test::relative(w * rows.qd(s, dof), 1e-12));
+        CHECK(offset(s * A + 1, 0) == mbx_test::relative(w, 1e-12));
+        CHECK(armature(s * A + 1, 0) == mbx_test::relative(w * rows.qdd(s, dof), 1e-12));
+        CHECK(gain(s * A + 1, 0) == mbx_test::relative(w * rows.effort(s, 1), 1e-12));
         CHECK(viscous(s * A, 0) == 0);
         CHECK(armature(s * A, 0) == 0);
     }
@@ -150,7 +151,7 @@ TEST_CASE("calibration: the catalogue offers the table's causes on their subject
             ++checked;
         }
     REQUIRE(checked > 100);
-    CHECK(size / checked == doctest::Approx(1).epsilon(0.03));
+    CHECK(size / checked == mbx_test::relative(1, 0.03));
 
     // Physical checks: friction dissipates, a gain deficit leaves an actuator.
     const Eigen::VectorXd minus = Eigen::VectorXd::Constant(1, -0.1), plus = Eigen::VectorXd::Constant(1, 0.1);
@@ -179,14 +180,14 @@ TEST_CASE("calibration: a cause's extension changes the model as the cause says,
     REQUIRE(ext.joints.size() == 1);
     const JointUpdate& u = ext.joints[0];
     CHECK(u.sim_joint == joint);
-    CHECK(u.after.damping == doctest::Approx(u.before.damping + 0.3));
-    CHECK(u.after.armature == doctest::Approx(u.before.armature + 0.02));
+    CHECK(u.after.damping == mbx_test::relative(u.before.damping + 0.3, 1e-6));
+    CHECK(u.after.armature == mbx_test::relative(u.before.armature + 0.02, 1e-6));
     CHECK(u.after.stiffness == u.before.stiffness);  // a negative spring is not written...
     CHECK(u.causes == std::vector<std::string>{"viscous_friction", "armature"});
-    CHECK(ext.options.joint_dynamics.at(m.joints[size_t(joint)].source).damping == doctest::Approx(u.after.damping));
+    CHECK(ext.options.joint_dynamics.at(m.joints[size_t(joint)].source).damping == mbx_test::relative(u.after.damping, 1e-6));
     // ...nor are a sensor's offset and a gain: the replays apply them, the report says why.
-    CHECK(ext.adjust.sensor_offset[size_t(dof)] == doctest::Approx(0.01));
-    CHECK(ext.adjust.effort_gain[size_t(dof)] == doctest::Approx(0.8));
+    CHECK(ext.adjust.sensor_offset[size_t(dof)] == mbx_test::relative(0.01, 1e-6));
+    CHECK(ext.adjust.effort_gain[size_t(dof)] == mbx_test::relative(0.8, 1e-6));
     REQUIRE(ext.unwritten.size() == 3);
     CHECK(ext.unwritten[0].cause == 2);
     CHECK(ext.unwritten[0].reason.find("measurement") != std::string::npos);

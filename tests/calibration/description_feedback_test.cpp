@@ -12,6 +12,7 @@
 #include "hidden_effects.h"
 #include "core/mechatronics/drive_file.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -53,15 +54,15 @@ BodyCorrection fed_back(const mbx_test::CaseSpec& spec, const mbx_test::TempDir&
     REQUIRE(errors.empty());
     const RigidBody cad = mech.bodies[size_t(masses[0].body)];
     apply_body_masses(mech, cad_inertia(mech), masses);
-    CHECK(mech.bodies[size_t(masses[0].body)].mass == doctest::Approx(cad.mass * found.mass_scale));
+    CHECK(mech.bodies[size_t(masses[0].body)].mass == mbx_test::relative(cad.mass * found.mass_scale, 1e-6));
     CHECK((mech.bodies[size_t(masses[0].body)].com - cad.com - found.com_shift).norm() < 1e-12);
 
     const CalibrationResult again = calibrate(mech, {}, e);
     MESSAGE(spec.name << ": calibrated " << r.final_step().simulated_fit << " / " << r.final_step().simulated_validation
                       << " %, fed back " << again.baseline().simulated_fit << " / "
                       << again.baseline().simulated_validation << " %");
-    CHECK(again.baseline().simulated_fit == doctest::Approx(r.final_step().simulated_fit).epsilon(0.01));
-    CHECK(again.baseline().simulated_validation == doctest::Approx(r.final_step().simulated_validation).epsilon(0.01));
+    CHECK(again.baseline().simulated_fit == mbx_test::relative(r.final_step().simulated_fit, 0.01));
+    CHECK(again.baseline().simulated_validation == mbx_test::relative(r.final_step().simulated_validation, 0.01));
     CHECK(again.identification.causes.empty());
     return found;
 }
@@ -74,7 +75,7 @@ TEST_CASE("calibration: a mass error written to description.xml and fed back rep
     spec.name = "mass", spec.mechanism = "two_link_arm", spec.seed = 11;
     spec.effects = {{"mass_error", "two_link_arm/forearm", 0.3, 0.3}};
     const BodyCorrection found = fed_back(spec, dir);
-    CHECK(found.mass_scale == doctest::Approx(1.3).epsilon(0.03));
+    CHECK(found.mass_scale == mbx_test::relative(1.3, 0.03));
     CHECK(found.com_shift.isZero(0));
 }
 
@@ -85,7 +86,7 @@ TEST_CASE("calibration: a centre of mass moved, written as com_shift and fed bac
     spec.effects = {{"com_shift", "two_link_arm/forearm", 0.04, 0.04, Eigen::Vector3d::UnitZ()}};
     const BodyCorrection found = fed_back(spec, dir);
     CHECK(found.mass_scale == 1);
-    CHECK(found.com_shift.z() == doctest::Approx(0.04).epsilon(0.05));
+    CHECK(found.com_shift.z() == mbx_test::relative(0.04, 0.05));
     CHECK(found.com_shift.y() == 0);  // along the joints' axis: no record sees it
 }
 }  // namespace MBX_UNITY_ID

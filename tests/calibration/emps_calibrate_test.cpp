@@ -10,6 +10,7 @@
 #include "calibration/calibrate.h"
 #include "tests/export/drives_support.h"
 #include "tests/export/export_fixture.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -54,14 +55,14 @@ TEST_CASE("calibration: EMPS closed-loop replay before and after calibration") {
     CHECK(u.constraint_id == "40:-:41");
     CHECK(u.linear);
     CHECK(u.before.damping == 0);
-    CHECK(u.after.damping == doctest::Approx(203.5).epsilon(0.15));
+    CHECK(u.after.damping == mbx_test::relative(203.5, 0.15));
     // The dry friction each way of motion, whichever way it was named (an
     // offset shifts both directions alike; the authors' values give 17.23 N
     // forward and 23.55 N backward).
     const double forward = u.after.coulomb + u.after.offset;
     const double backward = (u.after.asymmetric ? u.after.coulomb_negative : u.after.coulomb) - u.after.offset;
-    CHECK(forward == doctest::Approx(20.39 - 3.16).epsilon(0.05));
-    CHECK(backward == doctest::Approx(20.39 + 3.16).epsilon(0.05));
+    CHECK(forward == mbx_test::relative(20.39 - 3.16, 0.05));
+    CHECK(backward == mbx_test::relative(20.39 + 3.16, 0.05));
     CHECK(u.after.coulomb_velocity > 0);
     CHECK(r.unwritten.empty());
     CHECK(r.drives.empty());

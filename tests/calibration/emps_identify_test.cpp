@@ -12,6 +12,7 @@
 #include "tests/export/drives_support.h"
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -57,9 +58,9 @@ TEST_CASE("calibration: EMPS inverse-dynamics identification names friction and 
     REQUIRE(viscous);
     REQUIRE(coulomb);
     REQUIRE(offset);
-    CHECK(viscous->parameters[0].value == doctest::Approx(203.5).epsilon(0.15));
-    CHECK(coulomb->parameters[0].value == doctest::Approx(20.39).epsilon(0.10));
-    CHECK(offset->parameters[0].value == doctest::Approx(-3.16).epsilon(0.15));
+    CHECK(viscous->parameters[0].value == mbx_test::relative(203.5, 0.15));
+    CHECK(coulomb->parameters[0].value == mbx_test::relative(20.39, 0.10));
+    CHECK(offset->parameters[0].value == mbx_test::relative(-3.16, 0.15));
     // Nothing else: what is left is within what noise and sampling explain.
     CHECK(id.causes.size() == 3);
     // Near the authors' IDIM-LS figures (4.08 % and 5.98 %) on filtered data.

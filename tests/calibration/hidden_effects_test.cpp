@@ -23,6 +23,7 @@
 #include "sim/loop_closure.h"
 #include "sim/simulation.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -217,7 +218,7 @@ TEST_CASE("hidden effects: clean records equal mbx's inverse dynamics along MuJo
                              << ", reversals " << reversals(v) << ", accel RMS " << rms(tm.a.col(tm.actuated_dof[i])));
                 // MuJoCo and mbx agree far below the noise (the loop: MuJoCo's soft closure).
                 CHECK(engines < (model.closures.empty() ? 1e-8 : 2e-5));
-                CHECK(noise == doctest::Approx(0.015).epsilon(0.15));
+                CHECK(noise == mbx_test::relative(0.015, 0.15));
                 CHECK(rms(r_q) / rms(u) < 0.018);
                 CHECK(std::fabs(lag) < 1e-5);  // the step's hold alone would give 2.5e-4
                 // Rich excitation: many reversals.
@@ -318,7 +319,7 @@ TEST_CASE("hidden effects: MuJoCo's damping, friction loss and armature show wit
                              << ", effect RMS / effort RMS " << rms(res.r) / res.rms_effort);
         CHECK(truth >= it.low);
         CHECK(truth <= it.high);
-        CHECK(estimate == doctest::Approx(truth).epsilon(0.05));
+        CHECK(estimate == mbx_test::relative(truth, 0.05));
     }
 }
 
@@ -339,7 +340,7 @@ TEST_CASE("hidden effects: a changed body mass is MuJoCo's, seen by mbx's invers
         REQUIRE(b > 0);
         auto& in = changed.bodies[size_t(b)].inertia;
         in.mass *= 1 + change, in.h *= 1 + change, in.I *= 1 + change;
-        CHECK(in.mass == doctest::Approx(h.parameter("mass")));
+        CHECK(in.mass == mbx_test::relative(h.parameter("mass"), 1e-6));
         const Eigen::MatrixXd nominal = inverse_dynamics_along(model_of(mech), r.motion[0]);
         const Eigen::MatrixXd right = inverse_dynamics_along(changed, r.motion[0]);
         for (size_t i = 0; i < r.c.joint_ids.size(); ++i) {
@@ -377,7 +378,7 @@ TEST_CASE("hidden effects: a moved centre of mass and a changed inertia are MuJo
         double shift[3] = {0, 0, 0}, change[6] = {0, 0, 0, 0, 0, 0};
         if (kind == "com_shift") {
             for (int k = 0; k < 3; ++k) shift[k] = h.parameter(calibration::Candidate::kComShiftNames[k]);
-            CHECK(Eigen::Vector3d(shift[0], shift[1], shift[2]).norm() == doctest::Approx(low));
+            CHECK(Eigen::Vector3d(shift[0], shift[1], shift[2]).norm() == mbx_test::relative(low, 1e-6));
         } else {
             for (int k = 0; k < 6; ++k) change[k] = h.parameter(calibration::Candidate::kInertiaChangeNames[k]);
             CHECK(change[4] != 0);  // off the axes: products of inertia change too
@@ -406,14 +407,14 @@ TEST_CASE("hidden effects: effects added by the generator act on MuJoCo's motion
     SUBCASE("effort offset: recorded = inverse dynamics - offset") {
         const Run r = run("two_link_arm", {{"effort_offset", S, 0.3, 1.0}}, dir);
         const Residual res = residual_of(r, 0);
-        CHECK(-res.r.mean() == doctest::Approx(r.c.hidden[0].parameter("offset")).epsilon(0.02));
+        CHECK(-res.r.mean() == mbx_test::relative(r.c.hidden[0].parameter("offset"), 0.02));
         const Residual other = residual_of(r, 1);
         CHECK(std::fabs(other.r.mean()) < 0.005 * other.rms_effort);
     }
     SUBCASE("actuator gain: gain * recorded = inverse dynamics") {
         const Run r = run("emps_axis", {{"actuator_gain", P, 0.7, 0.9}}, dir);
         const Residual res = residual_of(r, 0);
-        CHECK(regress(columns({res.u}), res.id)[0] == doctest::Approx(r.c.hidden[0].parameter("gain")).epsilon(0.01));
+        CHECK(regress(columns({res.u}), res.id)[0] == mbx_test::relative(r.c.hidden[0].parameter("gain"), 0.01));
     }
     SUBCASE("delay: inverse dynamics at t = recorded effort at t - delay") {
         const Run r = run("two_link_arm", {{"delay", S, 0.004, 0.012}}, dir);
@@ -455,8 +456,8 @@ TEST_CASE("hidden effects: effects added by the generator act on MuJoCo's motion
         const Residual res = residual_of(r, 0);
         const Eigen::VectorXd s = smooth_sign(res.v, h.parameter("smoothing_velocity"));
         const Eigen::VectorXd p = regress(columns({s, s.cwiseAbs()}), res.r);
-        CHECK(p[0] == doctest::Approx(h.parameter("coulomb")).epsilon(0.02));
-        CHECK(p[1] == doctest::Approx(h.parameter("coulomb_asymmetry")).epsilon(0.03));
+        CHECK(p[0] == mbx_test::relative(h.parameter("coulomb"), 0.02));
+        CHECK(p[1] == mbx_test::relative(h.parameter("coulomb_asymmetry"), 0.03));
         CHECK(h.parameter("coulomb_positive") > h.parameter("coulomb_negative"));
         // Symmetric friction plus a constant offset explains the sliding
         // samples alike; the rests (the slide standing still, the asymmetric
@@ -475,12 +476,12 @@ TEST_CASE("hidden effects: effects added by the generator act on MuJoCo's motion
         const double vst = h.parameter("stribeck_velocity");
         Eigen::VectorXd col = smooth_sign(res.v, h.parameter("smoothing_velocity"));
         for (Eigen::Index k = 0; k < col.size(); ++k) col[k] *= std::exp(-std::pow(res.v[k] / vst, 2));
-        CHECK(regress(columns({col}), res.r)[0] == doctest::Approx(h.parameter("stribeck")).epsilon(0.03));
+        CHECK(regress(columns({col}), res.r)[0] == mbx_test::relative(h.parameter("stribeck"), 0.03));
     }
     SUBCASE("position-dependent effort: a spring k q") {
         const Run r = run("emps_axis", {{"position_dependent_effort", P, 60, 200}}, dir);
         const Residual res = residual_of(r, 0);
-        CHECK(regress(columns({res.q}), res.r)[0] == doctest::Approx(r.c.hidden[0].parameter("stiffness")).epsilon(0.02));
+        CHECK(regress(columns({res.q}), res.r)[0] == mbx_test::relative(r.c.hidden[0].parameter("stiffness"), 0.02));
     }
 }
 
@@ -517,8 +518,8 @@ TEST_CASE("hidden effects: files parse and the experiment names existing files a
                 smallest = std::min(smallest, csv.rows[k][0] - csv.rows[k - 1][0]);
                 largest = std::max(largest, csv.rows[k][0] - csv.rows[k - 1][0]);
             }
-            CHECK(smallest == doctest::Approx(1e-3));  // increasing, at 1 kHz
-            CHECK(largest == doctest::Approx(1e-3));
+            CHECK(smallest == mbx_test::relative(1e-3, 1e-6));  // increasing, at 1 kHz
+            CHECK(largest == mbx_test::relative(1e-3, 1e-6));
         }
         CHECK(roles == std::set<std::string>{"fit", "validation"});
         size_t compared = 0;

@@ -23,6 +23,7 @@
 #include "sim/simulation.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -207,7 +208,7 @@ TEST_CASE("calibration: the hidden-effect suite names each hidden cause, its sub
         // Only the simulation stage names a compliance: where it is skipped
         // (below), those cases are not this build's to judge.
         if (!kSimulationStages && g.hidden.size() == 1 && (g.hidden[0].cause == "compliance" || g.hidden[0].cause == "backlash")) {
-            MESSAGE("skipped " << spec.name << " (the simulation stage does not run in this build)");
+            MBX_SKIP_PART(spec.name << ": the simulation stage does not run in this build (sanitizers or no optimisation)");
             continue;
         }
         const sim::Model& model = model_of(spec.mechanism);

@@ -10,6 +10,7 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -41,12 +42,12 @@ TEST_CASE("calibration: a cause set's figures at its values agree with the joint
     // another road (the columns times the values, not the least squares).
     Identification again = id;
     recompute_errors(again, fit, validation);
-    CHECK(again.final_fit_error == doctest::Approx(id.final_fit_error).epsilon(1e-9));
-    CHECK(again.final_validation_error == doctest::Approx(id.final_validation_error).epsilon(1e-9));
-    CHECK(again.causes.back().validation_error == doctest::Approx(id.final_validation_error).epsilon(1e-9));
+    CHECK(again.final_fit_error == mbx_test::relative(id.final_fit_error, 1e-9));
+    CHECK(again.final_validation_error == mbx_test::relative(id.final_validation_error, 1e-9));
+    CHECK(again.causes.back().validation_error == mbx_test::relative(id.final_validation_error, 1e-9));
     double before = id.baseline_validation_error;
     for (const SelectedCause& c : again.causes) {
-        CHECK(c.validation_gain == doctest::Approx(before - c.validation_error).epsilon(1e-12));
+        CHECK(c.validation_gain == mbx_test::relative(before - c.validation_error, 1e-12));
         before = c.validation_error;
     }
 
@@ -54,8 +55,8 @@ TEST_CASE("calibration: a cause set's figures at its values agree with the joint
     Identification none = id;
     none.causes.clear();
     recompute_errors(none, fit, validation);
-    CHECK(none.final_fit_error == doctest::Approx(id.baseline_fit_error).epsilon(1e-9));
-    CHECK(none.final_validation_error == doctest::Approx(id.baseline_validation_error).epsilon(1e-9));
+    CHECK(none.final_fit_error == mbx_test::relative(id.baseline_fit_error, 1e-9));
+    CHECK(none.final_validation_error == mbx_test::relative(id.baseline_validation_error, 1e-9));
 
     // The elbow's damping dropped: most of what it explained comes back.
     Identification dropped = id;

@@ -15,6 +15,8 @@
 #include "cube_tosses.h"
 #include "tests/common/slow_build.h"
 #include "temp_dir.h"
+#include "tests/common/near.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -112,16 +114,19 @@ TEST_CASE("contact stage: calibrate() on the tosses names what the C++ contact f
     REQUIRE(got.steps.size() == want.steps.size());
     for (size_t i = 0; i < want.steps.size(); ++i) CHECK(got.steps[i].cause == want.steps[i].cause);
     // The same records, model and scene: the same figures.
-    CHECK(got.model.settings.friction.mu_kinetic == doctest::Approx(want.model.settings.friction.mu_kinetic).epsilon(1e-9));
-    CHECK(got.model.settings.normal.damping == doctest::Approx(want.model.settings.normal.damping).epsilon(1e-9));
-    CHECK(got.baseline_validation.score() == doctest::Approx(want.baseline_validation.score()).epsilon(1e-12));
+    CHECK(got.model.settings.friction.mu_kinetic == mbx_test::relative(want.model.settings.friction.mu_kinetic, 1e-9));
+    CHECK(got.model.settings.normal.damping == mbx_test::relative(want.model.settings.normal.damping, 1e-9));
+    CHECK(got.baseline_validation.score() == mbx_test::relative(want.baseline_validation.score(), 1e-12));
     bool friction = false;
     for (const auto& s : got.steps) friction = friction || s.cause == "contact_friction";
     CHECK(friction);
     // The naive mu 0.5 is far above what the board gives (the published fit: 0.218).
     CHECK(got.model.settings.friction.mu_kinetic < 0.35);
     // The C++ fit on its 12 training tosses names mu 0.205 (docs/contact.md); these 6 tell nearly the same.
-    if (!kSlowBuild) CHECK(std::abs(got.model.settings.friction.mu_kinetic / 0.205 - 1) < 0.1);
+    if (!kSlowBuild)
+        CHECK(std::abs(got.model.settings.friction.mu_kinetic / 0.205 - 1) < 0.1);
+    else
+        MBX_SKIP_PART("mu's value needs the release build's training tosses");
     CHECK(r.final_step().simulated_validation < r.baseline().simulated_validation);
     REQUIRE(r.steps.size() == got.steps.size() + 1);
     CHECK(r.traces.size() == r.record_paths.size() * 7);
@@ -157,7 +162,7 @@ TEST_CASE("contact stage: calibrate() on the tosses names what the C++ contact f
         double x = 1, y = 1, z = 0;
         xyz >> x >> y >> z;
         CHECK(x == 0);
-        CHECK(z == doctest::Approx(got.model.ground_offset).epsilon(1e-12));
+        CHECK(z == mbx_test::relative(got.model.ground_offset, 1e-12));
     }
 }
 
@@ -223,9 +228,9 @@ TEST_CASE("contact stage: description.xml gets the named causes only, a restitut
     std::istringstream xyz(plane.attribute("xyz").as_string());
     double x = 0, y = 0, z = 0;
     xyz >> x >> y >> z;
-    CHECK(x == doctest::Approx(-1.2).epsilon(1e-12));
+    CHECK(x == mbx_test::relative(-1.2, 1e-12));
     CHECK(std::abs(y) < 1e-15);
-    CHECK(z == doctest::Approx(10).epsilon(1e-12));
+    CHECK(z == mbx_test::relative(10, 1e-12));
     CHECK(std::string(root.child("collision").next_sibling("collision").next_sibling("collision").attribute("xyz").as_string()).empty());
     REQUIRE(notes.size() == 1);
     CHECK(notes[0].find("wood/board") != std::string::npos);

@@ -14,6 +14,7 @@
 #include "sim/build_model.h"
 #include "sim/contact/contact_step.h"
 #include "sim/dynamics.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -97,10 +98,10 @@ TEST_CASE("contact: a box resting on the plane sinks m g / 4k and stays level") 
     for (int k = 0; k < 20000; ++k) world.step(fb.model, d, s);
     const double sink = a / 2 - d.q[2];
     CHECK(world.forces().size() == 4);
-    CHECK(sink == doctest::Approx(m * g / (4 * cs.normal.stiffness)).epsilon(0.01).scale(0));
+    CHECK(sink == mbx_test::relative(m * g / (4 * cs.normal.stiffness), 0.01));
     // Level and still: no rocking on a single deepest corner.
     CHECK(d.v.norm() < 1e-6);
-    CHECK(std::abs(d.q[3]) == doctest::Approx(1).epsilon(1e-9));
+    CHECK(std::abs(d.q[3]) == mbx_test::relative(1, 1e-9));
 }
 
 TEST_CASE("contact: on an incline the friction spring holds below atan(mu_s), above it the box slides at g (sin - mu_k cos)") {
@@ -132,7 +133,7 @@ TEST_CASE("contact: on an incline the friction spring holds below atan(mu_s), ab
         } else {
             const double v = down_slope.dot(d.v.head<3>());
             const double expected = g * (std::sin(theta) - cs.friction.mu_kinetic * std::cos(theta)) * steps * s.step;
-            CHECK(std::abs(v) == doctest::Approx(expected).epsilon(0.01).scale(0));
+            CHECK(std::abs(v) == mbx_test::relative(expected, 0.01));
         }
     }
 }
@@ -159,7 +160,7 @@ TEST_CASE("contact: the regularised law lets the box creep down the 25 degree in
     // Where mu_k N tanh(v / v_s) balances m g sin: v = v_s atanh(tan / mu_k).
     const double expected = cs.smoothing_speed * std::atanh(std::tan(theta) / cs.friction.mu_kinetic);
     MESSAGE("regularised Coulomb on 25 deg: creeps at " << creep * 1e3 << " mm/s (the friction spring: 0)");
-    CHECK(creep == doctest::Approx(expected).epsilon(0.02).scale(0));
+    CHECK(creep == mbx_test::relative(expected, 0.02));
 }
 
 TEST_CASE("contact: a sliding ball starts rolling at t = 2 v0 / (7 mu g) with v = 5 v0 / 7, and energy never grows") {
@@ -189,8 +190,8 @@ TEST_CASE("contact: a sliding ball starts rolling at t = 2 v0 / (7 mu g) with v 
         if (t_stuck < 0 && std::abs(slip) < 1e-3) t_stuck = (k + 1) * s.step;
     }
     MESSAGE("rolls from t = " << t_stuck << " s (2 v0 / 7 mu g = " << t_roll << " s) at " << d.v[0] << " m/s (5 v0 / 7 = " << 5 * v0 / 7 << ")");
-    CHECK(t_stuck == doctest::Approx(t_roll).epsilon(0.02).scale(0));
-    CHECK(d.v[0] == doctest::Approx(5 * v0 / 7).epsilon(0.02).scale(0));
+    CHECK(t_stuck == mbx_test::relative(t_roll, 0.02));
+    CHECK(d.v[0] == mbx_test::relative(5 * v0 / 7, 0.02));
 }
 
 TEST_CASE("contact: a box pushed just below mu_s m g stays, just above it slides at (F - mu_k m g) / m") {
@@ -223,7 +224,7 @@ TEST_CASE("contact: a box pushed just below mu_s m g stays, just above it slides
             CHECK(d.q[0] - x0 < 1e-3);
         } else {
             const double accel = (d.v[0] - v_held) / 0.5;
-            CHECK(accel == doctest::Approx((F - cs.friction.mu_kinetic * m * g) / m).epsilon(0.02).scale(0));
+            CHECK(accel == mbx_test::relative((F - cs.friction.mu_kinetic * m * g) / m, 0.02));
         }
     }
 }
@@ -320,7 +321,7 @@ TEST_CASE("contact: the same drop under RK4 and the accurate mode, whose steps s
         }
         MESSAGE(std::string(sim::integrator_name(kind)) << ": rebound to " << apex / h0 << " of the drop height (e^2 = " << e * e << "), "
                                            << d.stats.steps << " steps");
-        CHECK(apex / h0 == doctest::Approx(e * e).epsilon(0.02).scale(0));
+        CHECK(apex / h0 == mbx_test::relative(e * e, 0.02));
     }
 }
 }  // namespace MBX_UNITY_ID

@@ -12,6 +12,7 @@
 #include "core/finding.h"
 #include "cube_tosses.h"
 #include "tests/common/slow_build.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -113,6 +114,9 @@ TEST_CASE("contact calibration: fitted on a training split of the tosses, it bea
         // The goal of the issue: better than MuJoCo fitted to these tosses.
         CHECK(final_validation.position < pub.position);
         CHECK(final_validation.rotation < pub.rotation);
+    } else {
+        MBX_SKIP_PART("the fit's statistics (half the naive error, better than MuJoCo's published fit) need the "
+                      "release build's 12 training tosses");
     }
     // Left lying where the tosses end, the fitted model holds the cube without drift.
     int at_rest = 0;

@@ -21,6 +21,7 @@
 #include "sim/contact/convex_hull.h"
 #include "sim/contact/detection.h"
 #include "sim/dynamics.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -106,8 +107,7 @@ TEST_CASE("default hulls: a body's own shapes replace the default, parts without
 TEST_CASE("default hulls: every ergoCub part with a mesh gets a hull holding its mesh's vertices, within the vertex cap") {
     auto t = ergocub();
     if (!t) {
-        MESSAGE("ergoCub data not present, skipped");
-        return;
+        MBX_SKIP("ergoCub data not present under " << MBX_SHARED_DATA);
     }
     const Mechanism& m = *t->mechanism;
     ContactSpec spec;
@@ -189,8 +189,7 @@ TEST_CASE("default hulls: hull cost grows near-linearly with the point count") {
 TEST_CASE("default hulls: an ergoCub part dropped onto a plane with its default hull rests on its lowest hull vertex") {
     auto t = ergocub();
     if (!t) {
-        MESSAGE("ergoCub data not present, skipped");
-        return;
+        MBX_SKIP("ergoCub data not present under " << MBX_SHARED_DATA);
     }
     const Mechanism& m = *t->mechanism;
     ContactSpec spec;
@@ -253,8 +252,7 @@ TEST_CASE("default hulls: an ergoCub part dropped onto a plane with its default 
 TEST_CASE("default hulls: ergoCub's hulls at its CAD pose, pairs not joined by a joint") {
     auto t = ergocub();
     if (!t) {
-        MESSAGE("ergoCub data not present, skipped");
-        return;
+        MBX_SKIP("ergoCub data not present under " << MBX_SHARED_DATA);
     }
     const Mechanism& m = *t->mechanism;
     ContactSpec spec;

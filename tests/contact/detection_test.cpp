@@ -11,6 +11,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/contact/detection.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -70,7 +71,7 @@ TEST_CASE("contact detection: a sphere sunk into a tilted plane, and two spheres
     REQUIRE(c.size() == 1);
     CHECK(c[0].shape_a == 0);  // the plane first
     CHECK(c[0].shape_b == 1);
-    CHECK(c[0].depth == doctest::Approx(0.02).epsilon(1e-6));
+    CHECK(c[0].depth == mbx_test::relative(0.02, 1e-6));
     CHECK((c[0].normal - n).norm() < 1e-6);  // from the plane into the sphere
     // The point lies between the sphere's lowest point and the plane.
     CHECK(std::abs(n.dot(c[0].point - on_plane)) < 0.02 + 1e-9);
@@ -86,7 +87,7 @@ TEST_CASE("contact detection: a sphere sunk into a tilted plane, and two spheres
     b.place(4, rot(1.0, Eigen::Vector3d::UnitX()), Eigen::Vector3d(1, 1, 1) + 0.12 * dir);
     two.detect(b.data, c);
     REQUIRE(c.size() == 1);
-    CHECK(c[0].depth == doctest::Approx(0.03).epsilon(1e-6));
+    CHECK(c[0].depth == mbx_test::relative(0.03, 1e-6));
     CHECK((c[0].normal - dir).norm() < 1e-6);
 }
 
@@ -101,7 +102,7 @@ TEST_CASE("contact detection: a box on a tilted plane touches with all four corn
     scene.detect(b.data, c);
     REQUIRE(c.size() == 4);
     for (const Contact& k : c) {
-        CHECK(k.depth == doctest::Approx(0.001).epsilon(1e-6));
+        CHECK(k.depth == mbx_test::relative(0.001, 1e-6));
         CHECK((k.normal - n).norm() < 1e-12);
     }
     // Tipped about the box's x axis by 0.005 rad: two corners deeper, two shallower (or clear).
@@ -110,9 +111,10 @@ TEST_CASE("contact detection: a box on a tilted plane touches with all four corn
     REQUIRE(c.size() == 4);
     double deepest = 0, shallowest = 1;
     for (const Contact& k : c) deepest = std::max(deepest, k.depth), shallowest = std::min(shallowest, k.depth);
-    // Corners at y = +-0.05, z = -0.025 tipped by 0.005: depth 0.001 +- 0.05 sin(0.005) + 0.025 (1 - cos 0.005).
-    CHECK(deepest == doctest::Approx(0.001 + 0.05 * std::sin(0.005) + 0.025 * (1 - std::cos(0.005))).epsilon(1e-6));
-    CHECK(shallowest == doctest::Approx(0.001 - 0.05 * std::sin(0.005) + 0.025 * (1 - std::cos(0.005))).epsilon(1e-6));
+    // Corners at y = +-0.05, z = -0.025 tipped by 0.005 go to z' = +-0.05 sin(0.005) - 0.025 cos(0.005):
+    // depth 0.001 +- 0.05 sin(0.005) - 0.025 (1 - cos 0.005).
+    CHECK(deepest == mbx_test::relative(0.001 + 0.05 * std::sin(0.005) - 0.025 * (1 - std::cos(0.005)), 1e-9));
+    CHECK(shallowest == mbx_test::relative(0.001 - 0.05 * std::sin(0.005) - 0.025 * (1 - std::cos(0.005)), 1e-6));
 }
 
 TEST_CASE("contact detection: capsules, filtering and bad shapes") {
@@ -135,8 +137,8 @@ TEST_CASE("contact detection: capsules, filtering and bad shapes") {
         CHECK(k.shape_a == 0);
         if (k.shape_b == 1) {
             ++rod;
-            CHECK(k.depth == doctest::Approx(0.005).epsilon(1e-6));
-            CHECK(k.normal.z() == doctest::Approx(1));
+            CHECK(k.depth == mbx_test::relative(0.005, 1e-6));
+            CHECK(k.normal.z() == mbx_test::relative(1, 1e-6));
         }
     }
     CHECK(rod >= 1);

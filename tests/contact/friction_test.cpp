@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "sim/contact/friction.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -51,19 +52,19 @@ TEST_CASE("contact friction: the friction spring holds below mu_s N, the regular
     const double f_hold = 0.9 * law.mu_static * n;
     const Run held = push(law, m, f_hold, true);
     CHECK(std::abs(held.x - held.x_at_5) < 1e-12);             // no creep over the last 5 s
-    CHECK(held.x == doctest::Approx(f_hold / law.stiffness).epsilon(1e-6).scale(0));  // the spring's stretch only
+    CHECK(held.x == mbx_test::relative(f_hold / law.stiffness, 1e-6));  // the spring's stretch only
     // The regularised law under 90 % of its kinetic level creeps at v_s atanh(0.9).
     const double vs = 1e-3, f_creep = 0.9 * law.mu_kinetic * n;
     const Run crept = push(law, m, f_creep, false, vs);
     const double speed = (crept.x - crept.x_at_5) / 5;
     MESSAGE("regularised Coulomb creep under 90 % of mu_k N: " << speed * 1e3 << " mm/s");
-    CHECK(speed == doctest::Approx(vs * std::atanh(0.9)).epsilon(1e-3).scale(0));
+    CHECK(speed == mbx_test::relative(vs * std::atanh(0.9), 1e-3));
 
     // Above the static limit: slides with kinetic friction.
     const double f_slide = 1.1 * law.mu_static * n;
     const Run slid = push(law, m, f_slide, true);
     const double a = (f_slide - law.mu_kinetic * n) / m;
-    CHECK(slid.v == doctest::Approx(a * 10).epsilon(0.01).scale(0));
+    CHECK(slid.v == mbx_test::relative(a * 10, 0.01));
 
     // Losing the load resets the contact; touching again anchors it anew.
     FrictionState s, next;

@@ -10,6 +10,7 @@
 
 #include "core/finding.h"
 #include "sim/contact/normal_force.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -19,21 +20,21 @@ TEST_CASE("contact normal force: laws, restitution and the damping for a restitu
     NormalLaw hc;
     hc.model = NormalModel::HuntCrossley, hc.stiffness = 2e5, hc.exponent = 1.5, hc.damping = 0.5;
     CHECK(normal_force(hc, -0.001, 1.0) == 0);
-    CHECK(normal_force(hc, 0.001, 0.0) == doctest::Approx(2e5 * std::pow(0.001, 1.5)));
+    CHECK(normal_force(hc, 0.001, 0.0) == mbx_test::relative(2e5 * std::pow(0.001, 1.5), 1e-6));
     CHECK(normal_force(hc, 0.001, -10.0) == 0);  // leaving fast: the law would pull, the force does not
 
     NormalLaw spring = hc;
     spring.model = NormalModel::Spring;
-    CHECK(restitution(spring, 0.37, 2.0) == doctest::Approx(1).epsilon(1e-6));
+    CHECK(restitution(spring, 0.37, 2.0) == mbx_test::relative(1, 1e-6));
 
     // Hunt-Crossley: e ~ 1 - (2/3) chi v for small chi v, and a function of chi v alone.
     hc.damping = 0.005;
-    CHECK(restitution(hc, 1.0, 2.0) == doctest::Approx(1 - 2.0 / 3 * 0.01).epsilon(2e-4));
+    CHECK(restitution(hc, 1.0, 2.0) == mbx_test::relative(1 - 2.0 / 3 * 0.01, 2e-4));
     hc.damping = 0.2;
     const double e1 = restitution(hc, 1.0, 2.0);
     NormalLaw other = hc;
     other.damping = 0.4, other.stiffness = 7e6;
-    CHECK(restitution(other, 3.0, 1.0) == doctest::Approx(e1).epsilon(1e-4));
+    CHECK(restitution(other, 3.0, 1.0) == mbx_test::relative(e1, 1e-4));
 
     // The linear spring-damper with a light damping: Kelvin-Voigt's restitution,
     // the cut of the pulling force raising it only a little.
@@ -44,14 +45,14 @@ TEST_CASE("contact normal force: laws, restitution and the damping for a restitu
     const double analytic = std::exp(-zeta * M_PI / std::sqrt(1 - zeta * zeta));
     const double e_kv = restitution(kv, mass, 1.5);
     CHECK(e_kv >= analytic - 1e-6);
-    CHECK(e_kv == doctest::Approx(analytic).epsilon(0.02));
+    CHECK(e_kv == mbx_test::relative(analytic, 0.02));
 
     // Solved damping gives its restitution back, for both models, over the range.
     for (double e : {0.3, 0.5, 0.8, 0.95}) {
         for (NormalLaw law : {hc, kv}) {
             law.damping = damping_for_restitution(law, 0.37, 1.7, e);
             CHECK(law.damping > 0);
-            CHECK(restitution(law, 0.37, 1.7) == doctest::Approx(e).epsilon(1e-4));
+            CHECK(restitution(law, 0.37, 1.7) == mbx_test::relative(e, 1e-4));
         }
     }
     // e = 0: as good as no rebound.

@@ -14,6 +14,7 @@
 #include "core/mechatronics/drive_controller.h"
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -81,8 +82,8 @@ TEST_CASE("drives: the EMPS axis built from CAD and library data reproduces the 
     // The drive file's amplifier gain turns volts into the rig's gtau.
     const double gtau = 35.15065188248547;
     const double force_per_unit = d.efficiency * d.ratio * d.motor.torque_constant * d.spec.amplifier.gain;
-    CHECK(force_per_unit == doctest::Approx(gtau).epsilon(1e-6));
-    CHECK(d.effort_limit == doctest::Approx(gtau * 10).epsilon(1e-6));
+    CHECK(force_per_unit == mbx_test::relative(gtau, 1e-6));
+    CHECK(d.effort_limit == mbx_test::relative(gtau * 10, 1e-6));
 
     mbx_test::TempDir dir("drives_emps");
     ExportSettings settings;
@@ -97,8 +98,8 @@ TEST_CASE("drives: the EMPS axis built from CAD and library data reproduces the 
     // (9.4 kg) misses by a factor of ten.
     mj_forward(run.model.get(), run.data.get());
     const double mass_matrix = run.data->qM[0];
-    CHECK(mass_matrix == doctest::Approx(9.42 + d.armature).epsilon(1e-9));
-    CHECK(mass_matrix == doctest::Approx(95.11).epsilon(0.005));
+    CHECK(mass_matrix == mbx_test::relative(9.42 + d.armature, 1e-9));
+    CHECK(mass_matrix == mbx_test::relative(95.11, 0.005));
 
     const EmpsRecord rec = read_emps(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
     REQUIRE(rec.t.size() == 24841);

@@ -13,6 +13,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -88,16 +89,16 @@ TEST_CASE("drives: MJCF and URDF give every driven joint the same armature, effo
         CHECK(std::string(tr.child_value("type")) == "transmission_interface/SimpleTransmission");
         const pugi::xml_node actuator = tr.child("actuator");
         ur.ratio = actuator.child("mechanicalReduction").text().as_double();
-        CHECK(actuator.child("drake:gear_ratio").attribute("value").as_double() == doctest::Approx(ur.ratio).epsilon(1e-12));
+        CHECK(actuator.child("drake:gear_ratio").attribute("value").as_double() == mbx_test::relative(ur.ratio, 1e-12));
         const double rotor = actuator.child("drake:rotor_inertia").attribute("value").as_double();
         ur.armature = rotor * ur.ratio * ur.ratio;
-        CHECK(joint->limits->velocity == doctest::Approx(d.velocity_limit).epsilon(1e-12));
+        CHECK(joint->limits->velocity == mbx_test::relative(d.velocity_limit, 1e-12));
 
         for (const Effective* e : {&mj, &ur}) {
-            CHECK(e->armature == doctest::Approx(d.armature).epsilon(1e-12));
-            CHECK(e->effort == doctest::Approx(d.effort_limit).epsilon(1e-12));
-            CHECK(e->damping == doctest::Approx(d.servo.emf_damping).epsilon(1e-12));
-            CHECK(e->ratio == doctest::Approx(d.ratio).epsilon(1e-12));
+            CHECK(e->armature == mbx_test::relative(d.armature, 1e-12));
+            CHECK(e->effort == mbx_test::relative(d.effort_limit, 1e-12));
+            CHECK(e->damping == mbx_test::relative(d.servo.emf_damping, 1e-12));
+            CHECK(e->ratio == mbx_test::relative(d.ratio, 1e-12));
         }
     }
 }

@@ -15,6 +15,7 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -178,11 +179,11 @@ TEST_CASE("drives: MJCF joints carry the drive's armature and back-EMF damping, 
         // Rotor J N^2 plus the transmission's own J N_t^2, from the library's raw values.
         const double expected = d.motor.rotor_inertia * d.ratio * d.ratio +
                                 d.transmission_inertia * d.transmission_ratio * d.transmission_ratio;
-        CHECK(model->dof_armature[dof] == doctest::Approx(expected).epsilon(1e-12));
-        CHECK(model->dof_damping[dof] == doctest::Approx(d.servo.emf_damping).epsilon(1e-12));
-        CHECK(model->actuator_gear[6 * aid] == doctest::Approx(d.ratio).epsilon(1e-12));
+        CHECK(model->dof_armature[dof] == mbx_test::relative(expected, 1e-12));
+        CHECK(model->dof_damping[dof] == mbx_test::relative(d.servo.emf_damping, 1e-12));
+        CHECK(model->actuator_gear[6 * aid] == mbx_test::relative(d.ratio, 1e-12));
         CHECK(model->actuator_forcerange[2 * aid + 1] * model->actuator_gear[6 * aid] ==
-              doctest::Approx(d.effort_limit).epsilon(1e-12));
+              mbx_test::relative(d.effort_limit, 1e-12));
         CHECK(model->actuator_trnid[2 * aid] == jid);
     }
 }

@@ -18,6 +18,7 @@
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -70,7 +71,7 @@ TEST_CASE("joint dynamics extra: MJCF writes the symmetric means MuJoCo compiles
     REQUIRE(pivot >= 0);
     CHECK(model->dof_frictionloss[model->jnt_dofadr[slide]] == 1.25);  // (2 + 0.5) / 2
     CHECK(model->dof_damping[model->jnt_dofadr[slide]] == 20);         // (30 + 10) / 2
-    CHECK(model->dof_frictionloss[model->jnt_dofadr[pivot]] == doctest::Approx(0.1).epsilon(1e-15));
+    CHECK(model->dof_frictionloss[model->jnt_dofadr[pivot]] == mbx_test::relative(0.1, 1e-15));
 
     ExportModel em = xtest::export_model(*t, settings);
     export_files(em, MBX_EXPORT_MJCF);
@@ -138,7 +139,7 @@ TEST_CASE("joint dynamics extra: Modelica holds the offset and asymmetric Coulom
     const msl::Component* so = model.find("slide_offset");
     REQUIRE(so);
     CHECK(so->class_name == kTrans + "Sources.ConstantForce");
-    CHECK(value(*so, "f_constant") == doctest::Approx(2.41).epsilon(1e-14));
+    CHECK(value(*so, "f_constant") == mbx_test::relative(2.41, 1e-14));
     CHECK(so->value("useSupport") == "true");
     CHECK(connected("slide_offset.flange", "mechanics.axis_slide"));
     CHECK(connected("slide_offset.support", "mechanics.support_slide"));
@@ -186,15 +187,15 @@ TEST_CASE("joint dynamics extra: Modelica holds the offset and asymmetric Coulom
     }
     REQUIRE(rows.size() == 13);
     CHECK(rows[0].first == 0);
-    CHECK(rows[0].second == doctest::Approx(0.5).epsilon(1e-15));  // the static level, exactly (peak 1)
+    CHECK(rows[0].second == mbx_test::relative(0.5, 1e-15));  // the static level, exactly (peak 1)
     for (int k = 1; k <= 10; ++k) {
         const double x = 0.25 * k;
-        CHECK(rows[size_t(k)].first == doctest::Approx(x * 0.05).epsilon(1e-14));
-        CHECK(rows[size_t(k)].second == doctest::Approx(0.1 + 0.4 * std::exp(-x * x)).epsilon(1e-14));
+        CHECK(rows[size_t(k)].first == mbx_test::relative(x * 0.05, 1e-14));
+        CHECK(rows[size_t(k)].second == mbx_test::relative(0.1 + 0.4 * std::exp(-x * x), 1e-14));
     }
-    CHECK(rows[11].first == doctest::Approx(0.15).epsilon(1e-14));
-    CHECK(rows[12].first == doctest::Approx(0.2).epsilon(1e-14));
-    CHECK(rows[11].second == doctest::Approx(0.1).epsilon(1e-15));
-    CHECK(rows[12].second == doctest::Approx(0.1).epsilon(1e-15));
+    CHECK(rows[11].first == mbx_test::relative(0.15, 1e-14));
+    CHECK(rows[12].first == mbx_test::relative(0.2, 1e-14));
+    CHECK(rows[11].second == mbx_test::relative(0.1, 1e-15));
+    CHECK(rows[12].second == mbx_test::relative(0.1, 1e-15));
 }
 }  // namespace MBX_UNITY_ID

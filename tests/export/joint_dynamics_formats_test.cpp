@@ -13,6 +13,7 @@
 #include "modelica_support.h"
 #include "mujoco_helpers.h"
 #include "export/urdf/urdf_layout.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -65,10 +66,10 @@ TEST_CASE("joint dynamics: MuJoCo compiles damping, frictionloss, armature, stif
     CHECK(model->dof_frictionloss[dof_s] == 3.5);
     CHECK(model->dof_armature[dof_s] == 0.75);
     CHECK(model->jnt_stiffness[slide] == 40);
-    CHECK(model->qpos_spring[model->jnt_qposadr[slide]] == doctest::Approx(0.025).epsilon(1e-15));
+    CHECK(model->qpos_spring[model->jnt_qposadr[slide]] == mbx_test::relative(0.025, 1e-15));
     CHECK(model->jnt_limited[slide]);
-    CHECK(model->jnt_range[2 * slide] == doctest::Approx(-0.15).epsilon(1e-15));
-    CHECK(model->jnt_range[2 * slide + 1] == doctest::Approx(0.2).epsilon(1e-15));
+    CHECK(model->jnt_range[2 * slide] == mbx_test::relative(-0.15, 1e-15));
+    CHECK(model->jnt_range[2 * slide + 1] == mbx_test::relative(0.2, 1e-15));
 
     // The description's limits replace the CAD joint's +-2 rad.
     const int pivot = mj_dof(model, run, joint_named(m, "pivot"));
@@ -78,8 +79,8 @@ TEST_CASE("joint dynamics: MuJoCo compiles damping, frictionloss, armature, stif
     CHECK(model->dof_armature[dof_p] == 0.003);
     CHECK(model->jnt_stiffness[pivot] == 0);
     CHECK(model->jnt_limited[pivot]);
-    CHECK(model->jnt_range[2 * pivot] == doctest::Approx(-kPi / 3).epsilon(1e-15));
-    CHECK(model->jnt_range[2 * pivot + 1] == doctest::Approx(kPi / 2).epsilon(1e-15));
+    CHECK(model->jnt_range[2 * pivot] == mbx_test::relative(-kPi / 3, 1e-15));
+    CHECK(model->jnt_range[2 * pivot + 1] == mbx_test::relative(kPi / 2, 1e-15));
 
     // Without joint dynamics the same joints carry none of it, and the CAD limits.
     mbx_test::TempDir plain_dir("joint_dynamics_mjcf_plain");
@@ -115,8 +116,8 @@ TEST_CASE("joint dynamics: a drive's armature and back-EMF damping add to the jo
     xtest::MuJoCoRun run = xtest::load_mjcf(*t, dir, settings);
     const int jid = mj_dof(run.model.get(), run, jd[0].joint);
     const int dof = run.model->jnt_dofadr[jid];
-    CHECK(run.model->dof_armature[dof] == doctest::Approx(waist->armature + 0.2).epsilon(1e-14));
-    CHECK(run.model->dof_damping[dof] == doctest::Approx(waist->servo.emf_damping + 1.5).epsilon(1e-14));
+    CHECK(run.model->dof_armature[dof] == mbx_test::relative(waist->armature + 0.2, 1e-14));
+    CHECK(run.model->dof_damping[dof] == mbx_test::relative(waist->servo.emf_damping + 1.5, 1e-14));
     CHECK(run.model->dof_frictionloss[dof] == 0.8);
 
     const OutputFiles files = xtest::export_to(*t, dir, MBX_EXPORT_URDF, settings);
@@ -128,7 +129,7 @@ TEST_CASE("joint dynamics: a drive's armature and back-EMF damping add to the jo
     const urdf::JointConstSharedPtr joint = urdf_model->getJoint(plan_urdf(em).joint_name[size_t(jd[0].joint)]);
     REQUIRE(joint);
     REQUIRE(joint->dynamics);
-    CHECK(joint->dynamics->damping == doctest::Approx(waist->servo.emf_damping + 1.5).epsilon(1e-14));
+    CHECK(joint->dynamics->damping == mbx_test::relative(waist->servo.emf_damping + 1.5, 1e-14));
     CHECK(joint->dynamics->friction == 0.8);
 }
 
@@ -154,8 +155,8 @@ TEST_CASE("joint dynamics: urdfdom reads damping, friction and the description's
     CHECK(slide->dynamics->damping == 12);
     CHECK(slide->dynamics->friction == 3.5);
     REQUIRE(slide->limits);
-    CHECK(slide->limits->lower == doctest::Approx(-0.15).epsilon(1e-15));
-    CHECK(slide->limits->upper == doctest::Approx(0.2).epsilon(1e-15));
+    CHECK(slide->limits->lower == mbx_test::relative(-0.15, 1e-15));
+    CHECK(slide->limits->upper == mbx_test::relative(0.2, 1e-15));
 
     const urdf::JointConstSharedPtr pivot = model->getJoint(layout.joint_name[size_t(joint_named(m, "pivot"))]);
     REQUIRE(pivot);
@@ -164,8 +165,8 @@ TEST_CASE("joint dynamics: urdfdom reads damping, friction and the description's
     CHECK(pivot->dynamics->damping == 0.02);
     CHECK(pivot->dynamics->friction == 0.05);
     REQUIRE(pivot->limits);
-    CHECK(pivot->limits->lower == doctest::Approx(-kPi / 3).epsilon(1e-15));
-    CHECK(pivot->limits->upper == doctest::Approx(kPi / 2).epsilon(1e-15));
+    CHECK(pivot->limits->lower == mbx_test::relative(-kPi / 3, 1e-15));
+    CHECK(pivot->limits->upper == mbx_test::relative(kPi / 2, 1e-15));
 
     // A spring and armature URDF cannot hold: one note per joint that has them.
     int notes = 0;
@@ -241,7 +242,7 @@ TEST_CASE("joint dynamics: Modelica puts MSL spring-damper, friction and inertia
     CHECK(sd->class_name == kTrans + "Components.SpringDamper");
     CHECK(value(*sd, "c") == 40);
     CHECK(value(*sd, "d") == 12);
-    CHECK(value(*sd, "s_rel0") == doctest::Approx(0.025).epsilon(1e-15));
+    CHECK(value(*sd, "s_rel0") == mbx_test::relative(0.025, 1e-15));
     CHECK(connected("slide_spring_damper.flange_a", "mechanics.support_slide"));
     CHECK(connected("slide_spring_damper.flange_b", "mechanics.axis_slide"));
     const msl::Component* sf = model.find("slide_friction");
@@ -333,7 +334,7 @@ TEST_CASE("joint dynamics: the damped pendulum in MuJoCo decays at b / (2 I) and
                           << 2 * kPi / omega_d << "), " << peaks.size() << " peaks, carriage travel " << slide_travel << " m");
     CHECK(slide_travel < 1e-6);
     // Small-angle theory at 0.01 rad is good to ~1e-5; the sampled peaks to better.
-    CHECK(measured_rate == doctest::Approx(rate).epsilon(1e-4));
-    CHECK(measured_period == doctest::Approx(2 * kPi / omega_d).epsilon(1e-4));
+    CHECK(measured_rate == mbx_test::relative(rate, 1e-4));
+    CHECK(measured_period == mbx_test::relative(2 * kPi / omega_d, 1e-4));
 }
 }  // namespace MBX_UNITY_ID

@@ -14,6 +14,7 @@
 #include "export_fixture.h"
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -55,8 +56,7 @@ TEST_CASE("mesh files: ergoCub gives one STL per body with geometry, triangles s
     const std::string xml = root + "/SIM_ERGOCUB_1-0.xml";
     const std::string mesh_dir = root + "/meshes/simmechanics";
     if (!std::filesystem::exists(xml)) {
-        MESSAGE("ergoCub data not present, skipped");
-        return;
+        MBX_SKIP("ergoCub data not present at " << root);
     }
     // Files on disk by lower-case name (the XML spells them in upper case).
     std::map<std::string, std::string> on_disk;

@@ -15,6 +15,7 @@
 #include "export/modelica/modelica_text.h"
 #include "modelica_support.h"
 #include "tests/common/file_text.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -35,7 +36,7 @@ std::string pmxml_dir() {
     const fs::path dir = fs::path(MBX_SHARED_DATA) / "pmxml";
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) {
-        MESSAGE("skipped: the real PMXML files are not at " << dir.string());
+        mbx_test::record_skip("the real PMXML files are not at " + dir.string());
         return {};
     }
     return dir.string();

@@ -10,6 +10,7 @@
 #include "core/mechatronics/contact_description.h"
 #include "mesh_readback.h"
 #include "urdf_consumer.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -104,7 +105,7 @@ TEST_CASE("urdf collision: each shape's geometry, and its origin placing it on i
         case CollisionKind::Sphere: {
             const auto g = placed(r.name, want);
             REQUIRE(g->type == urdf::Geometry::SPHERE);
-            CHECK(std::static_pointer_cast<urdf::Sphere>(g)->radius == doctest::Approx(s.radius));
+            CHECK(std::static_pointer_cast<urdf::Sphere>(g)->radius == mbx_test::relative(s.radius, 1e-6));
             break;
         }
         case CollisionKind::Box: {
@@ -117,15 +118,15 @@ TEST_CASE("urdf collision: each shape's geometry, and its origin placing it on i
         case CollisionKind::Capsule: {
             const auto g = placed(r.name, want);
             REQUIRE(g->type == urdf::Geometry::CYLINDER);
-            CHECK(std::static_pointer_cast<urdf::Cylinder>(g)->radius == doctest::Approx(s.radius));
-            CHECK(std::static_pointer_cast<urdf::Cylinder>(g)->length == doctest::Approx(s.length));
+            CHECK(std::static_pointer_cast<urdf::Cylinder>(g)->radius == mbx_test::relative(s.radius, 1e-6));
+            CHECK(std::static_pointer_cast<urdf::Cylinder>(g)->length == mbx_test::relative(s.length, 1e-6));
             if (s.kind == CollisionKind::Capsule)
                 for (const char* end : {"_cap0", "_cap1"}) {
                     // The caps' centres: the axis ends, along the shape's z.
                     const double z = (end[4] == '0' ? -0.5 : 0.5) * s.length;
                     const auto cap = placed(r.name + end, want * Pose{Mat3::Identity(), Vec3(0, 0, z)});
                     REQUIRE(cap->type == urdf::Geometry::SPHERE);
-                    CHECK(std::static_pointer_cast<urdf::Sphere>(cap)->radius == doctest::Approx(s.radius));
+                    CHECK(std::static_pointer_cast<urdf::Sphere>(cap)->radius == mbx_test::relative(s.radius, 1e-6));
                 }
             break;
         }

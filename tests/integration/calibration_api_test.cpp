@@ -19,6 +19,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -157,8 +158,8 @@ TEST_CASE("calibration api: EMPS calibrated, written, and the written descriptio
     const mbx_calibration_summary s2 = summary_of(second.get());
     MESSAGE("calibrated " << s.final_simulated_fit_error << " / " << s.final_simulated_validation_error
                           << " %; fed back " << s2.baseline_simulated_fit_error << " / " << s2.baseline_simulated_validation_error << " %");
-    CHECK(s2.baseline_simulated_fit_error == doctest::Approx(s.final_simulated_fit_error).epsilon(0.02));
-    CHECK(s2.baseline_simulated_validation_error == doctest::Approx(s.final_simulated_validation_error).epsilon(0.02));
+    CHECK(s2.baseline_simulated_fit_error == mbx_test::relative(s.final_simulated_fit_error, 0.02));
+    CHECK(s2.baseline_simulated_validation_error == mbx_test::relative(s.final_simulated_validation_error, 0.02));
 }
 
 TEST_CASE("calibration api: bad arguments, bad files and cancellation write nothing") {
@@ -227,8 +228,8 @@ TEST_CASE("calibration api: a description's <body mass_scale> corrects the attac
     for (int twice = 0; twice < 2; ++twice) {  // attaching again does not compound
         REQUIRE(a.mechanism_set_mechatronics(e->ctx(), e->mechanism.get(), mt) == MBX_OK);
         const mbx_rigid_body_info now = rigid_body(e->mechanism.get(), carriage);
-        CHECK(now.mass == doctest::Approx(1.5 * cad.mass));
-        CHECK(now.inertia[0] == doctest::Approx(1.5 * cad.inertia[0]));
+        CHECK(now.mass == mbx_test::relative(1.5 * cad.mass, 1e-6));
+        CHECK(now.inertia[0] == mbx_test::relative(1.5 * cad.inertia[0], 1e-6));
         CHECK(now.com[0] == cad.com[0]);
     }
     // Detached: the CAD mass again.

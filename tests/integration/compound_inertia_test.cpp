@@ -7,6 +7,7 @@
 
 #include "support/plugin_fixture.h"
 #include "support/stub_geometry.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -50,12 +51,12 @@ TEST_CASE("six_axis_arm: link 2 is one rigid body with the compound mass of its 
         const Vec3 d = com_w[k] - com;
         inertia += inertia_w[k] + masses[k] * (d.dot(d) * Mat3::Identity() - d * d.transpose());
     }
-    CHECK(mass == doctest::Approx(6.0 + 9.0 + 4.0));
+    CHECK(mass == mbx_test::relative(6.0 + 9.0 + 4.0, 1e-6));
 
     // The SDK reports CoM and inertia in the body frame `info.pose`.
     const Mat3 R = rotation(info.pose.rotation);
     const Vec3 p = vec(info.pose.position);
-    CHECK(info.mass == doctest::Approx(mass).epsilon(1e-12));
+    CHECK(info.mass == mbx_test::relative(mass, 1e-12));
     const Vec3 sdk_com = R * vec(info.com) + p;
     CHECK((sdk_com - com).norm() < 1e-12);
     const Mat3 sdk_inertia = R * rotation(info.inertia) * R.transpose();
@@ -83,14 +84,14 @@ TEST_CASE("fourbar: millimetres and grams arrive as metres and kilograms") {
     REQUIRE_MESSAGE(r.status == MBX_OK, r.error);
     const mbx_rigid_body_info crank = rigid_body(r.get(), find_part(r.get(), "fourbar/crank"));
     // 20 g crank, 40 mm long, pivot A at (0, 0, 10) mm, CoM half-way to B (24, 32, 10) mm.
-    CHECK(crank.mass == doctest::Approx(0.020).epsilon(1e-12));
+    CHECK(crank.mass == mbx_test::relative(0.020, 1e-12));
     const Vec3 com = rotation(crank.pose.rotation) * vec(crank.com) + vec(crank.pose.position);
     CHECK((com - Vec3(0.012, 0.016, 0.010)).norm() < 1e-12);
     CHECK((vec(crank.pose.position) - Vec3(0, 0, 0.010)).norm() < 1e-12);
     // Box 50 x 8 x 5 mm of 20 g about its own axes: m/12 (b^2 + c^2) etc., in kg m^2.
-    CHECK(crank.inertia[0] == doctest::Approx(0.020 / 12 * (0.008 * 0.008 + 0.005 * 0.005)).epsilon(1e-9));
-    CHECK(crank.inertia[4] == doctest::Approx(0.020 / 12 * (0.050 * 0.050 + 0.005 * 0.005)).epsilon(1e-9));
-    CHECK(crank.inertia[8] == doctest::Approx(0.020 / 12 * (0.050 * 0.050 + 0.008 * 0.008)).epsilon(1e-9));
+    CHECK(crank.inertia[0] == mbx_test::relative(0.020 / 12 * (0.008 * 0.008 + 0.005 * 0.005), 1e-9));
+    CHECK(crank.inertia[4] == mbx_test::relative(0.020 / 12 * (0.050 * 0.050 + 0.005 * 0.005), 1e-9));
+    CHECK(crank.inertia[8] == mbx_test::relative(0.020 / 12 * (0.050 * 0.050 + 0.008 * 0.008), 1e-9));
     // Ground link, RootPart (massless helper) and ground merge into the ground body.
     CHECK(find_part(r.get(), "fourbar/RootPart") == 0);
 }

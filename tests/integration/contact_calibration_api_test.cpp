@@ -17,6 +17,7 @@
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
 #include "../common/slow_build.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -151,6 +152,8 @@ TEST_CASE("contact calibration api: tosses in an experiment file name friction, 
         CHECK(first.causes[0] == "contact_friction");
         CHECK(first.mu == mu);
         CHECK(first.summary.final_simulated_validation_error < 0.5 * first.summary.baseline_simulated_validation_error);
+    } else {
+        MBX_SKIP_PART("the named friction and its value need the release build's 6 training tosses");
     }
 
     // Fed back: the fitted material is the start, and its replay is the calibrated one.

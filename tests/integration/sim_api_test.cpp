@@ -16,6 +16,7 @@
 #include "support/plugin_fixture.h"
 #include "support/temp_dir.h"
 #include "../common/file_text.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -117,16 +118,16 @@ TEST_CASE("sim API: a pendulum's mass matrix, inverse dynamics, energy and perio
         REQUIRE(a.sim_set_joint_state(ctx, s.data, 0, &theta, &zero) == MBX_OK);
         double M = 0, tau = 0;
         REQUIRE(a.sim_mass_matrix(ctx, s.data, &M) == MBX_OK);
-        CHECK(M == doctest::Approx(p.pivot_inertia()).epsilon(1e-12));
+        CHECK(M == mbx_test::relative(p.pivot_inertia(), 1e-12));
         REQUIRE(a.sim_inverse_dynamics(ctx, s.data, &zero, &tau) == MBX_OK);
-        CHECK(tau == doctest::Approx(p.m * kG * p.d * std::sin(theta)).epsilon(1e-12));
+        CHECK(tau == mbx_test::relative_to(p.m * kG * p.d * std::sin(theta), p.m * kG * p.d, 1e-12));
         double qacc = 0;
         REQUIRE(a.sim_forward_dynamics(ctx, s.data, &qacc) == MBX_OK);
-        CHECK(qacc == doctest::Approx(-p.m * kG * p.d * std::sin(theta) / p.pivot_inertia()).epsilon(1e-12));
+        CHECK(qacc == mbx_test::relative_to(-p.m * kG * p.d * std::sin(theta) / p.pivot_inertia(), p.m * kG * p.d / p.pivot_inertia(), 1e-12));
         mbx_sim_energy e{};
         e.struct_size = sizeof e;
         REQUIRE(a.sim_get_energy(ctx, s.data, &e) == MBX_OK);
-        CHECK(e.gravity == doctest::Approx(p.m * kG * (1 - p.d * std::cos(theta))).epsilon(1e-12));
+        CHECK(e.gravity == mbx_test::relative(p.m * kG * (1 - p.d * std::cos(theta)), 1e-12));
         CHECK(e.kinetic == 0);
     }
 
@@ -208,7 +209,7 @@ TEST_CASE("sim API: joint dynamics set by the host damp the pendulum at b / (2 I
     }
     REQUIRE(peaks.size() == 4);
     const double measured = std::log(peaks[0].second / peaks[3].second) / (peaks[3].first - peaks[0].first);
-    CHECK(measured == doctest::Approx(rate).epsilon(2e-3));  // peak sampling at 1 ms
+    CHECK(measured == mbx_test::relative(rate, 2e-3));  // peak sampling at 1 ms
 }
 
 TEST_CASE("sim API: ABI 7 joint dynamics (offset, asymmetric Coulomb) act as -offset and c+ / c-; ABI 6 callers keep the old law") {
@@ -247,10 +248,10 @@ TEST_CASE("sim API: ABI 7 joint dynamics (offset, asymmetric Coulomb) act as -of
     };
     const double I = p.pivot_inertia();
     const uint32_t v6 = uint32_t(offsetof(mbx_joint_dynamics_desc, offset));
-    CHECK(qacc_at(sizeof(mbx_joint_dynamics_desc), 2.0) == doctest::Approx((-offset - cp) / I).epsilon(1e-9));
-    CHECK(qacc_at(sizeof(mbx_joint_dynamics_desc), -2.0) == doctest::Approx((-offset + cn) / I).epsilon(1e-9));
-    CHECK(qacc_at(v6, 2.0) == doctest::Approx(-cp / I).epsilon(1e-9));
-    CHECK(qacc_at(v6, -2.0) == doctest::Approx(cp / I).epsilon(1e-9));
+    CHECK(qacc_at(sizeof(mbx_joint_dynamics_desc), 2.0) == mbx_test::relative((-offset - cp) / I, 1e-9));
+    CHECK(qacc_at(sizeof(mbx_joint_dynamics_desc), -2.0) == mbx_test::relative((-offset + cn) / I, 1e-9));
+    CHECK(qacc_at(v6, 2.0) == mbx_test::relative(-cp / I, 1e-9));
+    CHECK(qacc_at(v6, -2.0) == mbx_test::relative(cp / I, 1e-9));
 
     // A Stribeck peak without its decay speed is refused, naming it.
     Run run = translate(p.assembly());
@@ -312,7 +313,7 @@ TEST_CASE("sim API: a run writes trajectory.csv and simulation.json; a failed on
     CHECK(json.find("\"steps\": 500") != std::string::npos);
     double t = 0;
     a.sim_get_state(s.data, &t, nullptr, nullptr);
-    CHECK(t == doctest::Approx(0.5));
+    CHECK(t == mbx_test::relative(0.5, 1e-6));
 }
 
 TEST_CASE("sim API: bad input is refused with the joint, loop or option named") {

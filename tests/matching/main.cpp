@@ -1,4 +1,2 @@
-// The matching tests' own entry point: they link only the file adapter
-// library, not the SDK's test support.
-#define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
-#include <doctest/doctest.h>
+// The one translation unit per test executable that holds the runner.
+#include "tests/common/doctest_main.h"

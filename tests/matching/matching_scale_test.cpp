@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include "scene_builder.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -62,7 +63,7 @@ TEST_CASE("a 100k-node scene matches in near-linear time") {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     MESSAGE("matched 100000 nodes against 50000 bodies (automatic scale) in " << seconds << " s");
     CHECK(seconds < 10);
-    CHECK(r.vrml_scale == doctest::Approx(0.001));
+    CHECK(r.vrml_scale == mbx_test::relative(0.001, 1e-6));
     CHECK(r.issues.empty());
     CHECK(r.matched_nodes == body_count);
     REQUIRE(r.meshes.size() == body_count);

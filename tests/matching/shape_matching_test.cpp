@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include "scene_builder.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -240,13 +241,13 @@ TEST_CASE("the VRML unit is found automatically: millimetres against metres and 
     for (int n : {g, a, b}) mm.mesh(n, tetra("", 20));
 
     MatchResult r = match_shapes(mm.scene, metres);
-    CHECK(r.vrml_scale == doctest::Approx(0.001));
+    CHECK(r.vrml_scale == mbx_test::relative(0.001, 1e-6));
     CHECK(r.matched_nodes == 3);
     CHECK(r.issues.empty());
     REQUIRE(r.meshes.size() == 3);
     CHECK(r.meshes[1].body == 1);
     // 20 mm along the node's x is 0.02 m along the body's x.
-    CHECK(r.meshes[1].vertices[3] == doctest::Approx(0.02));
+    CHECK(r.meshes[1].vertices[3] == mbx_test::relative(0.02, 1e-6));
     CHECK(std::abs(r.meshes[1].vertices[4]) < 1e-12);
 
     // The other way: a model in millimetres, VRML in metres (stl2vrml).
@@ -309,7 +310,7 @@ TEST_CASE("vertices land in the body frame of a rotated, displaced body") {
     m.vertices = {0, 1000, 0};
     mm.mesh(part_mm, m);
     r = match_shapes(mm.scene, bodies);
-    CHECK(r.vrml_scale == doctest::Approx(0.001));
+    CHECK(r.vrml_scale == mbx_test::relative(0.001, 1e-6));
     REQUIRE(r.meshes.size() == 1);
     CHECK((first_vertex(r.meshes[0]) - Vector3d(0.5, 2, 0)).norm() < 1e-12);
 }

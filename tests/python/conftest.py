@@ -33,3 +33,12 @@ def driven_arm():
     with mbx.translate(ARM_XML, shapes=ARM_WRL) as m:
         m.attach_drives(ARM_DRIVES)
         yield m
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """A run that skipped anything and failed nothing exits 77, which ctest
+    reports as a skip (SKIP_RETURN_CODE), so a skip is never counted as a pass
+    (docs/testing.md)."""
+    reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+    if exitstatus == 0 and reporter is not None and reporter.stats.get("skipped"):
+        session.exitstatus = 77

@@ -9,6 +9,7 @@
 #include "sample_expectations.h"
 #include "temp_dir.h"
 #include "translation.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -39,7 +40,7 @@ void check_sample(const SampleExpectation& e) {
     const mbx_files::MatchResult& m = adapter->matching();
     for (const auto& issue : m.issues) MESSAGE(issue.message);
     CHECK(m.issues.empty());
-    CHECK(m.vrml_scale == doctest::Approx(e.vrml_scale));
+    CHECK(m.vrml_scale == mbx_test::relative(e.vrml_scale, 1e-6));
     CHECK(meshes_by_body_name(adapter->assembly()) == e.meshes);
 
     Translation t(adapter->table());
@@ -80,7 +81,7 @@ void check_sample(const SampleExpectation& e) {
     REQUIRE(density.size() == mismatch.size());
     for (size_t i = 0; i < mismatch.size(); ++i) {
         CHECK(mismatch[i] < 0.01);
-        CHECK(density[i] == doctest::Approx(e.density_kg_m3).epsilon(1e-5));
+        CHECK(density[i] == mbx_test::relative(e.density_kg_m3, 1e-5));
     }
 }
 

@@ -15,6 +15,7 @@
 #include "tests/export/export_fixture.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -27,7 +28,7 @@ TEST_CASE("sim accurate: the EMPS axis with stick/slip friction reproduces the r
     const std::vector<Drive> drives =
         xtest::resolve_drive_file(m, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
     REQUIRE(drives.size() == 1);
-    REQUIRE(drives[0].spec.controller.sample_period == doctest::Approx(1e-3));
+    REQUIRE(drives[0].spec.controller.sample_period == mbx_test::relative(1e-3, 1e-6));
     const mbx_test::EmpsRecord rec = mbx_test::read_emps(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
     REQUIRE(rec.t.size() == 24841);
 

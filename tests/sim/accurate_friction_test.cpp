@@ -10,6 +10,7 @@
 #include "tests/export/mujoco_assemblies.h"
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -103,7 +104,7 @@ TEST_CASE("sim accurate: a joint under a slowly rising effort stays exactly stil
     const double x = rate * t_check / Fc, vc = r.model.coulomb_velocity;
     const double creep_expected = (Fc / rate) * vc * (x * std::atanh(x) + 0.5 * std::log(1 - x * x));
     const double creep = f.q[0] - q0;
-    CHECK(creep == doctest::Approx(creep_expected).epsilon(0.02));
+    CHECK(creep == mbx_test::relative(creep_expected, 0.02));
     std::printf("[accurate friction] rising effort: accurate mode moved %.3g rad before the limit (exact: 0), "
                 "slip phase within %.3g rad of rate (t - t*)^3 / (6 I) (%.3g relative at 3 s); regularised RK4 "
                 "(0.1 ms) crept %.4g rad by t = %.1f s (quasi-static estimate %.4g rad); %lld evaluations, %lld steps\n",
@@ -148,7 +149,7 @@ TEST_CASE("sim accurate: a joint sliding to rest under a load within the limit s
     rk4.step = 1e-4;
     for (int k = 0; k < 20000; ++k) sim::fixed_step(r.model, f, rk4);
     const double creep_speed = r.model.coulomb_velocity * std::atanh(E / Fc);
-    CHECK(f.v[0] == doctest::Approx(creep_speed).epsilon(0.01));
+    CHECK(f.v[0] == mbx_test::relative(creep_speed, 0.01));
     std::printf("[accurate friction] slide to rest: accurate q(2 s) - q_rest = %.3g rad, qd = %g exactly, slide within "
                 "%.3g rad of the parabola; regularised RK4 at 2 s: %.4g rad past the rest point, still creeping at "
                 "%.4g rad/s (v_c atanh(E/Fc) = %.4g)\n",
@@ -170,7 +171,7 @@ TEST_CASE("sim accurate: a run whose efforts become non-finite stops with an err
         // The run cannot pass t = 0.5 s: the message names where it stopped.
         const size_t at = what.find("t = ");
         REQUIRE(at != std::string::npos);
-        CHECK(std::stod(what.substr(at + 4)) == doctest::Approx(0.5).epsilon(1e-9));
+        CHECK(std::stod(what.substr(at + 4)) == mbx_test::relative(0.5, 1e-9));
         CHECK(what.find("step size underflowed") != std::string::npos);
         // The state is the last accepted one, before the failure.
         CHECK(d.time <= 0.5);

@@ -14,6 +14,7 @@
 #include "sim/data.h"
 #include "sim/integrator.h"
 #include "sim/resolved_joint_dynamics.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -64,15 +65,15 @@ TEST_CASE("joint dynamics: description entries reach the simulation model, armat
     const int sj = model.joint_of_source[size_t(jd[0].joint)];
     REQUIRE(sj >= 0);
     const sim::JointDynamics& got = model.joints[size_t(sj)].dynamics;
-    CHECK(got.armature == doctest::Approx(waist->armature + 0.2).epsilon(1e-14));
+    CHECK(got.armature == mbx_test::relative(waist->armature + 0.2, 1e-14));
     CHECK(got.damping == 1.5);
     CHECK(got.coulomb == 0.8);
-    CHECK(got.coulomb_velocity == doctest::Approx(0.02 * kPi / 180).epsilon(1e-14));
+    CHECK(got.coulomb_velocity == mbx_test::relative(0.02 * kPi / 180, 1e-14));
     CHECK(got.stiffness == 4);
-    CHECK(got.rest == doctest::Approx(kPi / 18).epsilon(1e-14));
+    CHECK(got.rest == mbx_test::relative(kPi / 18, 1e-14));
     CHECK(got.limited);
-    CHECK(got.lower == doctest::Approx(-kPi / 6).epsilon(1e-14));
-    CHECK(got.upper == doctest::Approx(kPi / 3).epsilon(1e-14));
+    CHECK(got.lower == mbx_test::relative(-kPi / 6, 1e-14));
+    CHECK(got.upper == mbx_test::relative(kPi / 3, 1e-14));
     CHECK(got.limit_stiffness > 0);  // sized by build_model from the joint's inertia
     // Joints without an entry keep only their drive's armature.
     for (const Drive& d : options.drives) {
@@ -120,7 +121,7 @@ TEST_CASE("joint dynamics: a damped pendulum in mbx's simulator decays at b / (2
     const double period = (peaks.back().first - peaks.front().first) / double(peaks.size() - 1);
     MESSAGE("mbx: decay rate " << measured_rate << " 1/s (analytic " << rate << "), period " << period
                                << " s (analytic " << 2 * kPi / omega_d << ")");
-    CHECK(measured_rate == doctest::Approx(rate).epsilon(1e-4));
-    CHECK(period == doctest::Approx(2 * kPi / omega_d).epsilon(1e-4));
+    CHECK(measured_rate == mbx_test::relative(rate, 1e-4));
+    CHECK(period == mbx_test::relative(2 * kPi / omega_d, 1e-4));
 }
 }  // namespace MBX_UNITY_ID

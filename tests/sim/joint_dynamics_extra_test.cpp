@@ -19,6 +19,7 @@
 #include "sim/integrator.h"
 #include "sim/joint_forces.h"
 #include "sim/resolved_joint_dynamics.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -96,13 +97,13 @@ TEST_CASE("joint dynamics extra: an effort offset alone accelerates a free slide
     rk4.step = 1e-3;
     for (int k = 0; k < 1000; ++k) sim::fixed_step(a.model, d, rk4);
     const double accel = -offset / kMass, t = d.time;
-    CHECK(t == doctest::Approx(1.0).epsilon(1e-12));
-    CHECK(d.qacc[0] == doctest::Approx(accel).epsilon(1e-12));
-    CHECK(d.v[0] == doctest::Approx(accel * t).epsilon(1e-12));
-    CHECK(d.q[0] - q0 == doctest::Approx(0.5 * accel * t * t).epsilon(1e-12));
+    CHECK(t == mbx_test::relative(1.0, 1e-12));
+    CHECK(d.qacc[0] == mbx_test::relative(accel, 1e-12));
+    CHECK(d.v[0] == mbx_test::relative(accel * t, 1e-12));
+    CHECK(d.q[0] - q0 == mbx_test::relative(0.5 * accel * t * t, 1e-12));
     // The offset is an effort, not friction: it acts at rest and in motion alike.
-    CHECK(passive_at(a.model, 0.0, sim::FrictionLaw::Regularised) == doctest::Approx(-offset).epsilon(1e-15));
-    CHECK(passive_at(a.model, -5.0, sim::FrictionLaw::Slipping) == doctest::Approx(-offset).epsilon(1e-15));
+    CHECK(passive_at(a.model, 0.0, sim::FrictionLaw::Regularised) == mbx_test::relative(-offset, 1e-15));
+    CHECK(passive_at(a.model, -5.0, sim::FrictionLaw::Slipping) == mbx_test::relative(-offset, 1e-15));
     std::printf("[joint dynamics extra] offset %.3g N on a %.3g kg slider: acceleration %.6g m/s^2 (exact %.6g), "
                 "x(1 s) %.9g m (exact %.9g)\n",
                 offset, kMass, d.qacc[0], accel, d.q[0] - q0, 0.5 * accel * t * t);
@@ -114,10 +115,10 @@ TEST_CASE("joint dynamics extra: asymmetric Coulomb friction and damping take ea
                              "coulomb_velocity=\"0.001\"");
     const sim::JointT<double>& j = a.model.joints[0];
     for (sim::FrictionLaw law : {sim::FrictionLaw::Regularised, sim::FrictionLaw::Slipping}) {
-        CHECK(sim::coulomb_effort(a.model, j, v, law) == doctest::Approx(-cp).epsilon(1e-14));
-        CHECK(sim::coulomb_effort(a.model, j, -v, law) == doctest::Approx(cn).epsilon(1e-14));
-        CHECK(passive_at(a.model, v, law) == doctest::Approx(-cp - dp * v).epsilon(1e-14));
-        CHECK(passive_at(a.model, -v, law) == doctest::Approx(cn + dn * v).epsilon(1e-14));
+        CHECK(sim::coulomb_effort(a.model, j, v, law) == mbx_test::relative(-cp, 1e-14));
+        CHECK(sim::coulomb_effort(a.model, j, -v, law) == mbx_test::relative(cn, 1e-14));
+        CHECK(passive_at(a.model, v, law) == mbx_test::relative(-cp - dp * v, 1e-14));
+        CHECK(passive_at(a.model, -v, law) == mbx_test::relative(cn + dn * v, 1e-14));
     }
     CHECK(sim::damping_effort(j.dynamics, v) == -dp * v);
     CHECK(sim::damping_effort(j.dynamics, -v) == dn * v);
@@ -128,7 +129,7 @@ TEST_CASE("joint dynamics extra: asymmetric Coulomb friction and damping take ea
         const double t = std::tanh(x);
         const double expected = -(cp * (1 + t) / 2 + cn * (1 - t) / 2) * t;
         CHECK(sim::coulomb_effort(a.model, j, x * vc, sim::FrictionLaw::Regularised) ==
-              doctest::Approx(expected).epsilon(1e-14));
+              mbx_test::relative(expected, 1e-14));
     }
 }
 
@@ -141,12 +142,12 @@ TEST_CASE("joint dynamics extra: the Stribeck peak adds stribeck exp(-(qd/vs)^2)
         // 0.5 vs = 100 v_c and beyond: tanh is 1, the level is the formula's.
         for (double x : {0.5, 1.0, 2.0, 4.0}) {
             const double peak = s * std::exp(-x * x);
-            CHECK(sim::coulomb_effort(a.model, j, x * vs, law) == doctest::Approx(-(cp + peak)).epsilon(1e-14));
-            CHECK(sim::coulomb_effort(a.model, j, -x * vs, law) == doctest::Approx(cn + peak).epsilon(1e-14));
+            CHECK(sim::coulomb_effort(a.model, j, x * vs, law) == mbx_test::relative(-(cp + peak), 1e-14));
+            CHECK(sim::coulomb_effort(a.model, j, -x * vs, law) == mbx_test::relative(cn + peak, 1e-14));
         }
     }
-    CHECK(sim::static_friction(j.dynamics, 1) == doctest::Approx(cp + s).epsilon(1e-15));
-    CHECK(sim::static_friction(j.dynamics, -1) == doctest::Approx(cn + s).epsilon(1e-15));
+    CHECK(sim::static_friction(j.dynamics, 1) == mbx_test::relative(cp + s, 1e-15));
+    CHECK(sim::static_friction(j.dynamics, -1) == mbx_test::relative(cn + s, 1e-15));
 }
 
 TEST_CASE("joint dynamics extra: accurate mode breaks away at the pushed direction's Coulomb level plus the Stribeck peak") {

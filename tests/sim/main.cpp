@@ -1,2 +1,2 @@
-#define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
-#include <doctest/doctest.h>
+// The one translation unit per test executable that holds the runner.
+#include "tests/common/doctest_main.h"

@@ -15,6 +15,7 @@
 #include "sim/resolved_joint_dynamics.h"
 #include "sim/simulation.h"
 #include "sim/transmission.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -66,7 +67,7 @@ TEST_CASE("sim transmission: a released deflection rings at the two-mass frequen
     const double k = I0 * std::pow(2 * M_PI * 8, 2);  // link alone: 8 Hz
     const Rig r = rig(0.4, k, 0);
     const double Jm = r.model.transmissions[0].motor_inertia, I = r.link;
-    CHECK(r.model.joints[0].reference_inertia == doctest::Approx(I).epsilon(1e-9));
+    CHECK(r.model.joints[0].reference_inertia == mbx_test::relative(I, 1e-9));
     const double w = std::sqrt(k * (1 / Jm + 1 / I));
     const double theta0 = 0.05;
     for (const sim::IntegratorSettings& is : {rk4(1e-4), accurate()}) {
@@ -154,12 +155,12 @@ TEST_CASE("sim transmission: across the dead band the link feels nothing until t
     sim::advance(r.model, d, rk4(1e-5), 0.0099);
     CHECK(d.q[0] == 0.0);
     CHECK(d.v[0] == 0.0);
-    CHECK(d.motor_v[0] == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(d.motor_v[0] == mbx_test::relative(1.0, 1e-12));
     // Through the stop the momentum Jm * 1 is shared and none is made; the
     // stop's damper takes energy and gives none.
     sim::advance(r.model, d, rk4(1e-5), 0.03);
     CHECK(d.v[0] > 0.1 * Jm / (Jm + I));
-    CHECK(Jm * d.motor_v[0] + I * d.v[0] == doctest::Approx(Jm).epsilon(1e-9));
+    CHECK(Jm * d.motor_v[0] + I * d.v[0] == mbx_test::relative(Jm, 1e-9));
     CHECK(0.5 * I * d.v[0] * d.v[0] + sim::transmission_energy(r.model, d) < 0.5 * Jm);
 }
 
@@ -185,7 +186,7 @@ TEST_CASE("sim transmission: the motor's columns follow the joints' in a traject
     sim::update_kinematics(bare, rigid);
     Eigen::VectorXd zero = Eigen::VectorXd::Zero(1), g(1);
     sim::inverse_dynamics(bare, rigid, zero, g);
-    CHECK(tr.stiffness * (d.motor_q[0] - d.q[0]) == doctest::Approx(g[0]).epsilon(1e-9));
+    CHECK(tr.stiffness * (d.motor_q[0] - d.q[0]) == mbx_test::relative(g[0], 1e-9));
     sim::evaluate(m, d, sim::FrictionLaw::Regularised);
     CHECK(std::fabs(d.qacc[0]) < 1e-9);
     sim::RunSettings rs;
@@ -237,8 +238,8 @@ TEST_CASE("sim transmission: a description's <transmission> reaches the model, a
     CHECK(tr.joint == 0);
     CHECK(tr.stiffness == 1500);
     CHECK(tr.damping == 0.3);
-    CHECK(tr.backlash == doctest::Approx(M_PI / 180).epsilon(1e-15));
-    CHECK(tr.motor_inertia == doctest::Approx(0.025).epsilon(1e-15));  // the drive's rotor added
+    CHECK(tr.backlash == mbx_test::relative(M_PI / 180, 1e-15));
+    CHECK(tr.motor_inertia == mbx_test::relative(0.025, 1e-15));  // the drive's rotor added
     CHECK(m.joints[0].dynamics.armature == 0);                         // not on the link
     CHECK(m.joints[0].dynamics.damping == 0.1);                        // the joint's own stay on the link
     CHECK(m.transmission_of_dof[0] == 0);

@@ -1,3 +1,2 @@
-// The one translation unit that holds doctest's runner and main().
-#define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
-#include <doctest/doctest.h>
+// The one translation unit per test executable that holds the runner.
+#include "tests/common/doctest_main.h"

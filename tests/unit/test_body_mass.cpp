@@ -11,6 +11,7 @@
 #include "core/progress.h"
 #include "core/mechatronics/drive_file.h"
 #include "core/translator/translate.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -85,7 +86,7 @@ TEST_CASE("body mass: resolved by body or part id, applied from the CAD inertia"
     REQUIRE(body_with_part(*m, "bracket") == upper);  // welded: one body
     const double upper_mass = m->bodies[size_t(upper)].mass, fore_mass = m->bodies[size_t(fore)].mass;
     const Mat3 fore_inertia = m->bodies[size_t(fore)].inertia;
-    REQUIRE(upper_mass == doctest::Approx(2.5));
+    REQUIRE(upper_mass == mbx_test::relative(2.5, 1e-6));
 
     std::vector<BodyMassSpec> specs = {spec_of("bracket", 0.8, 2), spec_of("fore", 1.5, 3)};
     std::vector<LibraryError> errors;
@@ -97,13 +98,13 @@ TEST_CASE("body mass: resolved by body or part id, applied from the CAD inertia"
 
     const CadInertia cad = cad_inertia(*m);
     apply_body_masses(*m, cad, r);
-    CHECK(m->bodies[size_t(upper)].mass == doctest::Approx(0.8 * upper_mass));
-    CHECK(m->bodies[size_t(fore)].mass == doctest::Approx(1.5 * fore_mass));
+    CHECK(m->bodies[size_t(upper)].mass == mbx_test::relative(0.8 * upper_mass, 1e-6));
+    CHECK(m->bodies[size_t(fore)].mass == mbx_test::relative(1.5 * fore_mass, 1e-6));
     CHECK((m->bodies[size_t(fore)].inertia - 1.5 * fore_inertia).norm() < 1e-12);
     // Again, with only the forearm's: the upper arm is back to its CAD mass, nothing compounds.
     apply_body_masses(*m, cad, {r[1]});
-    CHECK(m->bodies[size_t(upper)].mass == doctest::Approx(upper_mass));
-    CHECK(m->bodies[size_t(fore)].mass == doctest::Approx(1.5 * fore_mass));
+    CHECK(m->bodies[size_t(upper)].mass == mbx_test::relative(upper_mass, 1e-6));
+    CHECK(m->bodies[size_t(fore)].mass == mbx_test::relative(1.5 * fore_mass, 1e-6));
 
     // Unknown ids, the same body twice (through two of its parts), the ground.
     specs = {spec_of("nothing", 1.1, 4), spec_of("upper", 1.1, 5), spec_of("bracket", 1.2, 6), spec_of("ground", 2, 7)};
@@ -150,7 +151,7 @@ TEST_CASE("body mass: a centre of mass moved and an inertia changed, read, check
     for (int twice = 0; twice < 2; ++twice) {  // from the CAD values each time
         apply_body_masses(*m, base, r);
         const RigidBody& b = m->bodies[size_t(fore)];
-        CHECK(b.mass == doctest::Approx(2 * cad.mass));
+        CHECK(b.mass == mbx_test::relative(2 * cad.mass, 1e-6));
         CHECK((b.com - (cad.com + Vec3(0.01, -0.02, 0.03))).norm() < 1e-15);
         Mat3 change;
         change << 1e-3, 0, 0, 0, 2e-3, -1e-4, 0, -1e-4, 0;

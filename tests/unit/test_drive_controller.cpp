@@ -19,6 +19,8 @@
 #include <vector>
 
 #include "core/mechatronics/drive_controller.h"
+#include "tests/common/near.h"
+#include "tests/common/skip.h"
 
 namespace MBX_UNITY_ID {
 
@@ -64,7 +66,7 @@ Emps load_emps(const std::string& name) {
     const std::filesystem::path path = std::filesystem::path(MBX_SHARED_DATA) / "measured" / "emps" / name;
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        MESSAGE("skipped: the EMPS record is not at " << path.string());
+        mbx_test::record_skip("the EMPS record is not at " + path.string());
         return d;
     }
     std::ostringstream buf;
@@ -262,7 +264,7 @@ TEST_CASE("drive controller: a P position loop around a velocity loop is the PD 
     for (int i = 0; i < 1000; ++i) {
         const double t = 1e-3 * i;
         const double r = std::sin(3 * t), q = 0.7 * std::cos(5 * t), qd = std::sin(11 * t);
-        REQUIRE(a.update(t, r, q, qd) == doctest::Approx(b.update(t, r, q, qd)).epsilon(1e-12));
+        REQUIRE(a.update(t, r, q, qd) == mbx_test::relative(b.update(t, r, q, qd), 1e-12));
     }
 }
 
@@ -281,7 +283,7 @@ TEST_CASE("drive controller: integrals advance with the time between calls") {
         t += dt;
         const double up = c.kp + c.ki * t;
         iv += up * dt;
-        CHECK(ctrl.update(t, 1.0, 0.0, 0.0) == doctest::Approx(c.kv * up + c.kvi * iv).epsilon(1e-12));
+        CHECK(ctrl.update(t, 1.0, 0.0, 0.0) == mbx_test::relative(c.kv * up + c.kvi * iv, 1e-12));
     }
     CHECK_THROWS_AS(ctrl.update(t - 0.1, 1, 0, 0), std::invalid_argument);  // time went back
 }
@@ -297,7 +299,7 @@ TEST_CASE("drive controller: integral action removes a constant disturbance's st
     };
     ControllerSpec pid = pd(kp, kd);
     pid.ki = ki;
-    CHECK(settle(pd(kp, kd)) == doctest::Approx(d / kp).epsilon(1e-3));
+    CHECK(settle(pd(kp, kd)) == mbx_test::relative(d / kp, 1e-3));
     CHECK(std::fabs(settle(pid)) < 1e-5);
 }
 
@@ -315,7 +317,7 @@ TEST_CASE("drive controller: the output stays within the limit and the integral 
         plant.step(u, 1e-3);
     }
     CHECK(saturated > 100);
-    CHECK(plant.q == doctest::Approx(5.0).epsilon(1e-4));
+    CHECK(plant.q == mbx_test::relative(5.0, 2e-4));
 
     // Held far from the target for 10 s, the proportional term alone
     // saturates, so the integral must stay at 0: back on target, u = 0
@@ -329,10 +331,10 @@ TEST_CASE("drive controller: the output stays within the limit and the integral 
         s.output_limit = 1;
         DriveController held(s);
         for (int i = 0; i <= 1000; ++i) CHECK(held.update(i * 0.01, 1.0, 0.0, 0.0) == 1.0);
-        CHECK(held.update(10.01, 0.0, 0.0, 0.0) == doctest::Approx(0.0).scale(1));
+        CHECK(held.update(10.01, 0.0, 0.0, 0.0) == mbx_test::within(0.0, 1e-9, "a held controller's output is zero, within rounding"));
         // An error back out of the saturation integrates as usual.
         // ki: -0.1 + 1 * (-0.01) * 0.5; kvi: kv u_p + kvi u_p 0.5 with u_p = -0.1.
-        CHECK(held.update(10.51, -0.01, 0.0, 0.0) == doctest::Approx(kvi == 0 ? -0.105 : -0.35));
+        CHECK(held.update(10.51, -0.01, 0.0, 0.0) == mbx_test::relative(kvi == 0 ? -0.105 : -0.35, 1e-6));
     }
 }
 
@@ -349,7 +351,7 @@ TEST_CASE("drive controller: a continuous delay shifts the output by exactly the
         u.push_back(now.update(t, r, q, qd));
         const double ud = delayed.update(t, r, q, qd);
         if (i < 10) REQUIRE(ud == 0.0);
-        else REQUIRE(ud == doctest::Approx(u[static_cast<std::size_t>(i - 10)]).epsilon(1e-12));
+        else REQUIRE(ud == mbx_test::relative(u[static_cast<std::size_t>(i - 10)], 1e-12));
     }
     // Between the calls it interpolates linearly: steps of h/2 now.
     DriveController half(late);
@@ -357,7 +359,7 @@ TEST_CASE("drive controller: a continuous delay shifts the output by exactly the
     std::vector<double> uref;
     for (int i = 0; i < 100; ++i) uref.push_back(ref.update(i * h, 1.0 + i, 0, 0));
     for (int i = 0; i < 100; ++i) half.update(i * h, 1.0 + i, 0, 0);
-    CHECK(half.update(99.5 * h, 100.0, 0, 0) == doctest::Approx(0.5 * (uref[89] + uref[90])));
+    CHECK(half.update(99.5 * h, 100.0, 0, 0) == mbx_test::relative(0.5 * (uref[89] + uref[90]), 1e-6));
     half.reset();
     CHECK(half.update(1.0, 1.0, 0, 0) == 0.0);  // time restarts at the first call after reset
 }
@@ -381,11 +383,11 @@ TEST_CASE("drive controller: a discrete controller samples, holds and delays by 
         else REQUIRE(ud == per_sample[k - 3]);
     }
     // kp e_k + ki Ts (e_1 + ... + e_k): the first sample has nothing to integrate.
-    CHECK(per_sample[10] == doctest::Approx(2 * (0.5 + std::sin(40 * 0.01)) + 1e-3 * [] {
+    CHECK(per_sample[10] == mbx_test::relative(2 * (0.5 + std::sin(40 * 0.01)) + 1e-3 * [] {
         double s = 0;
         for (int k = 1; k <= 10; ++k) s += 0.5 + std::sin(40 * k * 1e-3);
         return s;
-    }()).epsilon(1e-12));
+    }(), 1e-12));
     CHECK_THROWS_AS(now.update(0.1 + 2.5e-3, 0, 0, 0), std::invalid_argument);  // steps over a sample
 }
 
@@ -399,9 +401,9 @@ TEST_CASE("drive controller: velocity estimates from the sampled positions") {
         c.sample_period = 0.01;
         c.velocity_estimate = estimate;
         DriveController ctrl(c);
-        for (int k = 0; k < 4; ++k) CHECK(ctrl.update(0.01 * k, 0, 2 * 0.01 * k, 5.0) == doctest::Approx(expected[k]));
+        for (int k = 0; k < 4; ++k) CHECK(ctrl.update(0.01 * k, 0, 2 * 0.01 * k, 5.0) == mbx_test::relative_to(expected[k], 5.0, 1e-9));
         ctrl.reset();
-        CHECK(ctrl.update(1.0, 0, 7.0, 5.0) == doctest::Approx(expected[0]));  // no past samples after reset
+        CHECK(ctrl.update(1.0, 0, 7.0, 5.0) == mbx_test::relative_to(expected[0], 5.0, 1e-9));  // no past samples after reset
     }
 }
 
@@ -454,7 +456,7 @@ TEST_CASE("drive controller: reproduces the EMPS rig's logged controller output 
                                                          << on_pulse.max << " V, median " << on_pulse.median << " V");
     CHECK(off_pulse.max < 0.05);
     CHECK(off_pulse.median < 5e-3);
-    CHECK(mean_on == doctest::Approx(0.0695).epsilon(0.02));
+    CHECK(mean_on == mbx_test::relative(0.0695, 0.02));
     CHECK(on_pulse.max < 0.05);
     CHECK(on_pulse.median < 5e-3);
 

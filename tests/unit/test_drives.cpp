@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 #include "core/translator/translate.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -130,7 +131,7 @@ TEST_CASE("drive file: a clean file gives its drives with controller, amplifier,
     CHECK(c.output_limit == 10);
     CHECK(c.velocity_estimate == VelocityEstimate::FilteredDifference);
     CHECK(d.motion.interpolation() == Interpolation::Smooth);
-    CHECK(d.motion.at(1).position == doctest::Approx(kPi / 2));
+    CHECK(d.motion.at(1).position == mbx_test::relative(kPi / 2, 1e-6));
     CHECK(d.motion_unit == "deg");
 }
 
@@ -219,17 +220,17 @@ TEST_CASE("drives: resolution gives the drive quantities worked out from the lib
     const double k_krs = (8 - 0.78 * 1.2) / (8200 * 2 * kPi / 60);
     CHECK(s.name == "servo");
     CHECK_FALSE(s.linear);
-    CHECK(s.motor.torque_constant == doctest::Approx(k_krs).epsilon(1e-12));
+    CHECK(s.motor.torque_constant == mbx_test::relative(k_krs, 1e-12));
     CHECK(s.ratio == 251);
-    CHECK(s.armature == doctest::Approx(1.2e-7 * 251 * 251).epsilon(1e-12));
+    CHECK(s.armature == mbx_test::relative(1.2e-7 * 251 * 251, 1e-12));
     CHECK(s.output_limit == 8);
-    CHECK(s.effort_limit == doctest::Approx(251 * k_krs * 8 / 0.78).epsilon(1e-12));
-    CHECK(s.velocity_limit == doctest::Approx(8 / k_krs / 251).epsilon(1e-12));
+    CHECK(s.effort_limit == mbx_test::relative(251 * k_krs * 8 / 0.78, 1e-12));
+    CHECK(s.velocity_limit == mbx_test::relative(8 / k_krs / 251, 1e-12));
     // Servo: stiffness and damping through G = N k / Ra; back-EMF N^2 k^2 / Ra.
     const double g = 251 * k_krs / 0.78;
-    CHECK(s.servo.stiffness == doctest::Approx(50 * g).epsilon(1e-12));
-    CHECK(s.servo.damping == doctest::Approx(0.1 * g).epsilon(1e-12));
-    CHECK(s.servo.emf_damping == doctest::Approx(251.0 * 251 * k_krs * k_krs / 0.78).epsilon(1e-12));
+    CHECK(s.servo.stiffness == mbx_test::relative(50 * g, 1e-12));
+    CHECK(s.servo.damping == mbx_test::relative(0.1 * g, 1e-12));
+    CHECK(s.servo.emf_damping == mbx_test::relative(251.0 * 251 * k_krs * k_krs / 0.78, 1e-12));
     CHECK(s.servo.approximation.empty());
 
     // RE40-class motor on a 5 mm ball screw behind a current amplifier.
@@ -238,12 +239,12 @@ TEST_CASE("drives: resolution gives the drive quantities worked out from the lib
     const double screw = 2 * kPi / 0.005;
     CHECK(a.linear);
     CHECK(a.transmission_kind == "ball_screw");
-    CHECK(a.ratio == doctest::Approx(screw).epsilon(1e-12));
-    CHECK(a.armature == doctest::Approx((1.42e-5 + 4e-5) * screw * screw).epsilon(1e-12));
-    CHECK(a.effort_limit == doctest::Approx(0.9 * screw * k_re * 0.5 * 10).epsilon(1e-12));
+    CHECK(a.ratio == mbx_test::relative(screw, 1e-12));
+    CHECK(a.armature == mbx_test::relative((1.42e-5 + 4e-5) * screw * screw, 1e-12));
+    CHECK(a.effort_limit == mbx_test::relative(0.9 * screw * k_re * 0.5 * 10, 1e-12));
     const double g_a = 0.9 * screw * k_re * 0.5;  // N per unit of output
-    CHECK(a.servo.stiffness == doctest::Approx(g_a * 240 * 160).epsilon(1e-12));
-    CHECK(a.servo.damping == doctest::Approx(g_a * 240).epsilon(1e-12));
+    CHECK(a.servo.stiffness == mbx_test::relative(g_a * 240 * 160, 1e-12));
+    CHECK(a.servo.damping == mbx_test::relative(g_a * 240, 1e-12));
     CHECK(a.servo.emf_damping == 0);  // a current amplifier cancels the back-EMF
 
     // Second revolute of the two-primitive chain, strain-wave gear with an
@@ -251,8 +252,8 @@ TEST_CASE("drives: resolution gives the drive quantities worked out from the lib
     const Drive& w = drives[2];
     CHECK(w.efficiency == 0.8);
     CHECK(w.ratio == 100);
-    CHECK(w.armature == doctest::Approx((1.42e-5 + 3.3e-6) * 1e4).epsilon(1e-12));
-    CHECK(w.effort_limit == doctest::Approx(0.8 * 100 * k_re * 24 / 1.16).epsilon(1e-12));
+    CHECK(w.armature == mbx_test::relative((1.42e-5 + 3.3e-6) * 1e4, 1e-12));
+    CHECK(w.effort_limit == mbx_test::relative(0.8 * 100 * k_re * 24 / 1.16, 1e-12));
 }
 
 TEST_CASE("drives: resolution refuses what cannot be driven, each with the drive's line") {

@@ -5,6 +5,7 @@
 
 #include "core/assembly/host_reader.h"
 #include "apps/stub_host/assemblies/stub_assembly.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -98,10 +99,10 @@ TEST_CASE("host reader converts units per quantity and resolves frames and axes 
     REQUIRE(a.parts.size() == 2);
     CHECK(a.name == "small");
     const Part& arm = a.parts[1];
-    CHECK(arm.mass == doctest::Approx(0.5));
-    CHECK(arm.com.x() == doctest::Approx(0.1));
-    CHECK(arm.inertia(0, 0) == doctest::Approx(2e-3));  // g*mm^2 -> kg*m^2 is 1e-9
-    CHECK(arm.pose.position.x() == doctest::Approx(0.2));
+    CHECK(arm.mass == mbx_test::relative(0.5, 1e-6));
+    CHECK(arm.com.x() == mbx_test::relative(0.1, 1e-6));
+    CHECK(arm.inertia(0, 0) == mbx_test::relative(2e-3, 1e-6));  // g*mm^2 -> kg*m^2 is 1e-9
+    CHECK(arm.pose.position.x() == mbx_test::relative(0.2, 1e-6));
     // Frame 50 mm along the arm's local x, and the arm is turned +90 deg about z.
     CHECK((a.frames[1].world.position - Vec3(0.2, 0.05, 0)).norm() < 1e-12);
     // Axis local x of that frame -> world +y, unit length.

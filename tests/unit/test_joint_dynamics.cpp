@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "core/mechatronics/drive_file.h"
 #include "core/translator/translate.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -129,17 +130,17 @@ TEST_CASE("joint dynamics file: a clean entry gives every value in SI, positions
     CHECK(r.coulomb == 2);
     CHECK(r.stiffness == 3);
     CHECK(r.armature == 0.01);
-    CHECK(r.coulomb_velocity == doctest::Approx(0.6 * kPi / 180).epsilon(1e-15));
-    CHECK(r.rest == doctest::Approx(kPi / 6).epsilon(1e-15));
+    CHECK(r.coulomb_velocity == mbx_test::relative(0.6 * kPi / 180, 1e-15));
+    CHECK(r.rest == mbx_test::relative(kPi / 6, 1e-15));
     CHECK(r.limited);
-    CHECK(r.lower == doctest::Approx(-kPi / 2).epsilon(1e-15));
-    CHECK(r.upper == doctest::Approx(kPi / 4).epsilon(1e-15));
+    CHECK(r.lower == mbx_test::relative(-kPi / 2, 1e-15));
+    CHECK(r.upper == mbx_test::relative(kPi / 4, 1e-15));
     CHECK(r.unit == "deg");
     const JointDynamicsSpec& p = l.spec.joint_dynamics[1];
     CHECK(p.joint.primitive == -1);
     CHECK(p.damping == 7);
-    CHECK(p.lower == doctest::Approx(-0.02).epsilon(1e-15));
-    CHECK(p.upper == doctest::Approx(0.25).epsilon(1e-15));
+    CHECK(p.lower == mbx_test::relative(-0.02, 1e-15));
+    CHECK(p.upper == mbx_test::relative(0.25, 1e-15));
     const JointDynamicsSpec& c = l.spec.joint_dynamics[2];
     CHECK(c.coulomb == 0.25);
     CHECK(c.damping == 0);
@@ -214,7 +215,7 @@ TEST_CASE("joint dynamics: resolution puts each entry's SI values on its Mechani
     CHECK(r.upper == 1.5);
     CHECK(out[1].joint == joint_named("P1"));
     CHECK(out[1].linear);
-    CHECK(out[1].upper == doctest::Approx(0.25).epsilon(1e-15));
+    CHECK(out[1].upper == mbx_test::relative(0.25, 1e-15));
     // The chain's second primitive (its first is J_N next to the base).
     const Mechanism& m = mechanism();
     const Joint& c1 = m.joints[size_t(out[2].joint)];
@@ -292,7 +293,7 @@ TEST_CASE("joint dynamics file: offset, asymmetric friction and Stribeck parse i
     CHECK(*p.coulomb_negative == 0.5);
     CHECK(*p.damping_negative == 1.5);
     CHECK(p.stribeck == 0.7);
-    CHECK(p.stribeck_velocity == doctest::Approx(0.02).epsilon(1e-15));  // 20 mm/s: speeds follow `unit`
+    CHECK(p.stribeck_velocity == mbx_test::relative(0.02, 1e-15));  // 20 mm/s: speeds follow `unit`
     CHECK(p.offset == -3.16);
     const JointDynamicsSpec& r = l.spec.joint_dynamics[1];
     CHECK_FALSE(r.coulomb_negative.has_value());
@@ -358,7 +359,7 @@ TEST_CASE("joint dynamics file: a <transmission> in a joint gives its coefficien
     CHECK(t.stiffness == 2000);
     CHECK(t.damping == 0.5);
     CHECK(t.motor_inertia == 0.01);
-    CHECK(t.backlash == doctest::Approx(0.5 * kPi / 180).epsilon(1e-15));
+    CHECK(t.backlash == mbx_test::relative(0.5 * kPi / 180, 1e-15));
     CHECK(t.line == 3);
     CHECK_FALSE(l.spec.joint_dynamics[1].transmission);
     std::vector<DriveError> errors;

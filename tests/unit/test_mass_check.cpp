@@ -3,6 +3,7 @@
 #include "core/assembly/shape_loader.h"
 #include "assembly_builder.h"
 #include "core/translator/translate.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -61,8 +62,8 @@ TEST_CASE("mass check: a CAD centre of mass on the mesh centroid passes, density
     CHECK(r.fetches == 2);  // ground and the block, each asked once
     const ShapeCheck& c = r.m->shape_checks[1];
     REQUIRE(c.checked);
-    CHECK(c.volume == doctest::Approx(1e-3));
-    CHECK(c.density == doctest::Approx(2700));
+    CHECK(c.volume == mbx_test::relative(1e-3, 1e-6));
+    CHECK(c.density == mbx_test::relative(2700, 1e-6));
     CHECK(c.centroid_mismatch < 1e-12);
     CHECK(count(*r.m, MBX_FINDING_MASS_MISMATCH) == 0);
 }
@@ -70,9 +71,9 @@ TEST_CASE("mass check: a CAD centre of mass on the mesh centroid passes, density
 TEST_CASE("mass check: a centre of mass 5 mm off the centroid is named") {
     Run r = run(Vec3(0, 0.005, 0));
     const ShapeCheck& c = r.m->shape_checks[1];
-    CHECK(c.centroid_mismatch == doctest::Approx(0.005));
+    CHECK(c.centroid_mismatch == mbx_test::relative(0.005, 1e-6));
     // Tolerance: 2 % of the box diagonal (0.1*sqrt(3) m) = 3.46 mm, above 1 mm.
-    CHECK(c.tolerance == doctest::Approx(0.02 * 0.1 * std::sqrt(3.0)));
+    CHECK(c.tolerance == mbx_test::relative(0.02 * 0.1 * std::sqrt(3.0), 1e-6));
     REQUIRE(count(*r.m, MBX_FINDING_MASS_MISMATCH) == 1);
     for (const Finding& f : r.m->findings)
         if (f.code == MBX_FINDING_MASS_MISMATCH) {

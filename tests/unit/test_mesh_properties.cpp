@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/geometry/mesh_properties.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -33,13 +34,13 @@ TEST_CASE("box: volume, centroid and inertia match the analytic solid") {
     acc.add(v, t);
     SolidProperties p = acc.result();
     const double a = 2 * h.x(), b = 2 * h.y(), d = 2 * h.z();
-    CHECK(p.volume == doctest::Approx(a * b * d));
+    CHECK(p.volume == mbx_test::relative(a * b * d, 1e-6));
     CHECK((p.centroid - c).norm() < 1e-12);
     // Solid box: I_xx = m (b^2 + d^2) / 12, with m = density * V.
     const double m = p.volume;
-    CHECK(p.inertia_per_density(0, 0) == doctest::Approx(m * (b * b + d * d) / 12));
-    CHECK(p.inertia_per_density(1, 1) == doctest::Approx(m * (a * a + d * d) / 12));
-    CHECK(p.inertia_per_density(2, 2) == doctest::Approx(m * (a * a + b * b) / 12));
+    CHECK(p.inertia_per_density(0, 0) == mbx_test::relative(m * (b * b + d * d) / 12, 1e-6));
+    CHECK(p.inertia_per_density(1, 1) == mbx_test::relative(m * (a * a + d * d) / 12, 1e-6));
+    CHECK(p.inertia_per_density(2, 2) == mbx_test::relative(m * (a * a + b * b) / 12, 1e-6));
     CHECK(std::abs(p.inertia_per_density(0, 1)) < 1e-15);
 }
 
@@ -51,7 +52,7 @@ TEST_CASE("inverted normals give the same solid; an open mesh is detected") {
     for (size_t i = 0; i < flipped.size(); i += 3) std::swap(flipped[i + 1], flipped[i + 2]);
     SolidAccumulator acc;
     acc.add(v, flipped);
-    CHECK(acc.result().volume == doctest::Approx(8.0));
+    CHECK(acc.result().volume == mbx_test::relative(8.0, 1e-6));
     CHECK(check_closure(flipped).closed);
     std::vector<uint32_t> open(t.begin(), t.end() - 3);
     MeshClosure c = check_closure(open);
@@ -70,9 +71,9 @@ TEST_CASE("rotated tetrahedron: analytic centroid and the product-of-inertia sig
     acc.add(v, t);
     SolidProperties p = acc.result();
     const double V = 1.0 / 6.0;
-    CHECK(p.volume == doctest::Approx(V));
+    CHECK(p.volume == mbx_test::relative(V, 1e-6));
     CHECK((p.centroid - Vec3::Constant(0.25)).norm() < 1e-12);
-    CHECK(p.inertia_per_density(0, 0) == doctest::Approx(2.0 / 60 - V * 2.0 / 16));
-    CHECK(p.inertia_per_density(0, 1) == doctest::Approx(-1.0 / 120 + V / 16));
+    CHECK(p.inertia_per_density(0, 0) == mbx_test::relative(2.0 / 60 - V * 2.0 / 16, 1e-6));
+    CHECK(p.inertia_per_density(0, 1) == mbx_test::relative(-1.0 / 120 + V / 16, 1e-6));
 }
 }  // namespace MBX_UNITY_ID

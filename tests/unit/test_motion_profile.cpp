@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/mechatronics/motion_profile.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -22,10 +23,10 @@ TEST_CASE("motion profile: no motion holds 0, and outside the table the end valu
 
 TEST_CASE("motion profile: linear segments") {
     const MotionProfile p({{0, 0}, {2, 1}, {3, -1}}, Interpolation::Linear);
-    CHECK(p.at(0.5).position == doctest::Approx(0.25));
-    CHECK(p.at(0.5).velocity == doctest::Approx(0.5));
-    CHECK(p.at(2.5).position == doctest::Approx(0.0));
-    CHECK(p.at(2.5).velocity == doctest::Approx(-2.0));
+    CHECK(p.at(0.5).position == mbx_test::relative(0.25, 1e-6));
+    CHECK(p.at(0.5).velocity == mbx_test::relative(0.5, 1e-6));
+    CHECK(p.at(2.5).position == mbx_test::within(0.0, 1e-9, "the segment from 1 to -1 crosses zero there"));
+    CHECK(p.at(2.5).velocity == mbx_test::relative(-2.0, 1e-6));
 }
 
 TEST_CASE("motion profile: steps hold the earlier value until the next point") {
@@ -41,17 +42,17 @@ TEST_CASE("motion profile: smooth segments are rest-to-rest quintics") {
     const MotionProfile p({{1, 0.1}, {1 + T, 0.1 + dq}}, Interpolation::Smooth);
     // Midpoint: half the travel, peak velocity 15/8 dq/T, zero acceleration.
     const MotionSample mid = p.at(1 + T / 2);
-    CHECK(mid.position == doctest::Approx(0.1 + dq / 2));
-    CHECK(mid.velocity == doctest::Approx(15.0 / 8 * dq / T));
-    CHECK(mid.acceleration == doctest::Approx(0).scale(1));
+    CHECK(mid.position == mbx_test::relative(0.1 + dq / 2, 1e-6));
+    CHECK(mid.velocity == mbx_test::relative(15.0 / 8 * dq / T, 1e-6));
+    CHECK(mid.acceleration == mbx_test::within(0, 1e-9, "a profile at rest: zero, within rounding"));
     // Peak acceleration at u = 1/2 - sqrt(3)/6: 10 sqrt(3)/3 dq/T^2.
     const double u = 0.5 - std::sqrt(3.0) / 6;
-    CHECK(p.at(1 + u * T).acceleration == doctest::Approx(10 * std::sqrt(3.0) / 3 * dq / (T * T)));
+    CHECK(p.at(1 + u * T).acceleration == mbx_test::relative(10 * std::sqrt(3.0) / 3 * dq / (T * T), 1e-6));
     // At rest at both ends; velocity is the derivative of position.
-    CHECK(p.at(1 + 1e-9).velocity == doctest::Approx(0).scale(1));
-    CHECK(p.at(1 + T - 1e-9).acceleration == doctest::Approx(0).scale(1));
+    CHECK(p.at(1 + 1e-9).velocity == mbx_test::within(0, 1e-9, "a profile at rest: zero, within rounding"));
+    CHECK(p.at(1 + T - 1e-9).acceleration == mbx_test::within(0, 1e-7, "1e-9 s before rest: the jerk times 1e-9"));
     const double h = 1e-6, t = 1.7;
-    CHECK(p.at(t).velocity == doctest::Approx((p.at(t + h).position - p.at(t - h).position) / (2 * h)).epsilon(1e-6));
+    CHECK(p.at(t).velocity == mbx_test::relative((p.at(t + h).position - p.at(t - h).position) / (2 * h), 1e-6));
 }
 
 TEST_CASE("motion profile: tables with non-increasing times or non-finite numbers are refused") {

@@ -8,6 +8,7 @@
 
 #include "core/mechatronics/drive_quantities.h"
 #include "core/mechatronics/object_library.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -58,7 +59,7 @@ TEST_CASE("object library: the bundled library reads without errors and holds th
     REQUIRE(kondo.object);
     CHECK(kondo.object->name == "KRS-784ICS");
     CHECK(kondo.cls->modelica == "Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_PermanentMagnet");
-    CHECK(*lib.si_value(kondo, "rpmNominal") == doctest::Approx(8200 * 2 * M_PI / 60));
+    CHECK(*lib.si_value(kondo, "rpmNominal") == mbx_test::relative(8200 * 2 * M_PI / 60, 1e-6));
 
     // By hand: k = (8 V - 0.78 Ohm * 1.2 A) / (8200 rpm = 858.70 rad/s) = 8.2264e-3 N m/A;
     // stall torque k * 8 / 0.78 = 0.084373 N m; no-load speed 8 / k = 972.48 rad/s;
@@ -66,22 +67,22 @@ TEST_CASE("object library: the bundled library reads without errors and holds th
     std::string error;
     const auto c = dc_motor_constants(lib, kondo, error);
     REQUIRE_MESSAGE(c, error);
-    CHECK(c->torque_constant == doctest::Approx(8.2264e-3).epsilon(1e-4));
-    CHECK(c->stall_torque == doctest::Approx(0.084373).epsilon(1e-4));
-    CHECK(c->no_load_speed == doctest::Approx(972.48).epsilon(1e-4));
-    CHECK(c->reflected_inertia == doctest::Approx(7.56012e-3).epsilon(1e-5));
+    CHECK(c->torque_constant == mbx_test::relative(8.2264e-3, 1e-4));
+    CHECK(c->stall_torque == mbx_test::relative(0.084373, 1e-4));
+    CHECK(c->no_load_speed == mbx_test::relative(972.48, 1e-4));
+    CHECK(c->reflected_inertia == mbx_test::relative(7.56012e-3, 1e-5));
 
     // The ball-screw-class motor: datasheet torque constant 60.3 mN m/A.
     const auto re40 = dc_motor_constants(lib, lib.find("5B0E3C1F7A2D4E8C9F61A4B2C3D5E7F9"), error);
     REQUIRE(re40);
-    CHECK(re40->torque_constant == doctest::Approx(0.0603).epsilon(0.02));
+    CHECK(re40->torque_constant == mbx_test::relative(0.0603, 0.02));
 
     // Ball screw 5 mm lead: 2 pi / 0.005 m = 1256.6 rad/m; its 4e-5 kg m^2 acts like 63.2 kg on the carriage.
     const auto screw = transmission_constants(lib, lib.find("3E8F2A1B6C4D4E9F8A7B0C1D2E3F4A5B"), error);
     REQUIRE(screw);
     CHECK(screw->linear);
-    CHECK(screw->ratio == doctest::Approx(1256.637).epsilon(1e-6));
-    CHECK(screw->reflected_inertia == doctest::Approx(63.165).epsilon(1e-4));
+    CHECK(screw->ratio == mbx_test::relative(1256.637, 1e-6));
+    CHECK(screw->reflected_inertia == mbx_test::relative(63.165, 1e-4));
 }
 
 TEST_CASE("object library: a valid object with its values in the declared units") {

@@ -12,6 +12,7 @@
 
 #include "core/report/report.h"
 #include "../common/file_text.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -217,10 +218,10 @@ TEST_CASE("report json: parts and bodies") {
     checked.shape_checks.resize(checked.assembly.parts.size());
     checked.shape_checks[2] = {true, 2e-6, 0.0031, 2700, 0.001};
     const json c = json::parse(mbx::report_json(checked))["parts"][2]["shape_check"];
-    CHECK(c["centroid_mismatch_mm"].get<double>() == doctest::Approx(3.1));
-    CHECK(c["tolerance_mm"].get<double>() == doctest::Approx(1.0));
-    CHECK(c["mesh_volume_m3"].get<double>() == doctest::Approx(2e-6));
-    CHECK(c["density_kg_m3"].get<double>() == doctest::Approx(2700));
+    CHECK(c["centroid_mismatch_mm"].get<double>() == mbx_test::relative(3.1, 1e-6));
+    CHECK(c["tolerance_mm"].get<double>() == mbx_test::relative(1.0, 1e-6));
+    CHECK(c["mesh_volume_m3"].get<double>() == mbx_test::relative(2e-6, 1e-6));
+    CHECK(c["density_kg_m3"].get<double>() == mbx_test::relative(2700, 1e-6));
     CHECK(mbx::report_text(checked).find("3.1 mm (above 1 mm)") != std::string::npos);
 
     const json& bodies = j["bodies"];

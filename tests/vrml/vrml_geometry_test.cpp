@@ -6,6 +6,7 @@
 
 #include "host_adapters/pmxml_vrml/vrml_primitives.h"
 #include "vrml_test_support.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -44,7 +45,7 @@ TEST_CASE("a unit cube of quads gives 12 triangles, closed, volume 1") {
     CHECK(m.vertices.size() == 24);
     CHECK(m.triangles.size() == 36);
     CHECK(is_closed(m));
-    CHECK(signed_volume(m) == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(signed_volume(m) == mbx_test::relative(1.0, 1e-12));
     // Fan from each face's first vertex: face 0 3 2 1 -> (0 3 2) (0 2 1).
     CHECK(std::vector<uint32_t>(m.triangles.begin(), m.triangles.begin() + 6) ==
           std::vector<uint32_t>{0, 3, 2, 0, 2, 1});
@@ -52,9 +53,9 @@ TEST_CASE("a unit cube of quads gives 12 triangles, closed, volume 1") {
 
 TEST_CASE("ccw FALSE flips the winding to counter-clockwise") {
     const VrmlMesh as_written = only_mesh(cube(cube_cw, ""));
-    CHECK(signed_volume(as_written) == doctest::Approx(-1.0));
+    CHECK(signed_volume(as_written) == mbx_test::relative(-1.0, 1e-6));
     const VrmlMesh flipped = only_mesh(cube(cube_cw, "ccw FALSE"));
-    CHECK(signed_volume(flipped) == doctest::Approx(1.0));
+    CHECK(signed_volume(flipped) == mbx_test::relative(1.0, 1e-6));
     CHECK(is_closed(flipped));
 }
 
@@ -97,7 +98,7 @@ Group { children [
     VrmlMesh tetra = meshes[1];
     tetra.triangles.insert(tetra.triangles.end(), meshes[0].triangles.begin(), meshes[0].triangles.end());
     CHECK(is_closed(tetra));
-    CHECK(signed_volume(tetra) == doctest::Approx(1.0 / 6));
+    CHECK(signed_volume(tetra) == mbx_test::relative(1.0 / 6, 1e-6));
 }
 
 TEST_CASE("Box is exact, and Sphere, Cylinder and Cone are closed and near their volume") {
@@ -121,8 +122,8 @@ Group { children [
         CHECK(is_closed(m[i]));
     }
     CHECK(m[0].triangles.size() == 36);
-    CHECK(signed_volume(m[0]) == doctest::Approx(24.0).epsilon(1e-14));
-    CHECK(signed_volume(m[4]) == doctest::Approx(8.0).epsilon(1e-14));  // default size 2 2 2
+    CHECK(signed_volume(m[0]) == mbx_test::relative(24.0, 1e-14));
+    CHECK(signed_volume(m[4]) == mbx_test::relative(8.0, 1e-14));  // default size 2 2 2
     // Inscribed facets: a little below the analytic volume, never above.
     const double sphere = 4.0 / 3 * pi * 8, cylinder = pi * 3, cone = pi * 4 * 3 / 3;
     CHECK(signed_volume(m[1]) < sphere);
@@ -135,7 +136,7 @@ Group { children [
     for (size_t v = 0; v < m[1].vertices.size(); v += 3) {
         const double r = std::sqrt(m[1].vertices[v] * m[1].vertices[v] + m[1].vertices[v + 1] * m[1].vertices[v + 1] +
                                    m[1].vertices[v + 2] * m[1].vertices[v + 2]);
-        CHECK(r == doctest::Approx(2.0));
+        CHECK(r == mbx_test::relative(2.0, 1e-6));
     }
     double ymin = 1e9, ymax = -1e9;
     for (size_t v = 1; v < m[2].vertices.size(); v += 3) {

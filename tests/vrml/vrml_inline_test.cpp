@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -61,7 +62,7 @@ DEF SUB Transform { translation 0 0 5 children Inline { url "../sub/arm_a.wrl" }
     CHECK(scene.nodes[7].file == dir.path() + "/parts/link_a.wrl");
     REQUIRE(scene.nodes[3].meshes.size() == 1);
     CHECK(scene.nodes[3].meshes[0].name == "LINK_B_SHAPE");
-    CHECK(signed_volume(scene.nodes[3].meshes[0]) == doctest::Approx(3.0));
+    CHECK(signed_volume(scene.nodes[3].meshes[0]) == mbx_test::relative(3.0, 1e-6));
     CHECK(scene.nodes[3].world.translation().isApprox(Eigen::Vector3d(0, 2, 0)));
     CHECK(scene.nodes[3].world.linear().isApprox(Eigen::Vector3d(-1, -1, 1).asDiagonal().toDenseMatrix(), 1e-12));
     CHECK(scene.nodes[7].world.translation().isApprox(Eigen::Vector3d(0, 0, 15)));

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include "vrml_test_support.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
@@ -39,10 +40,10 @@ DEF P2 Placed { pos 1 2 3 boxSize 1 1 4 extra [ DEF X Transform { translation 0 
     CHECK(scene.nodes[1].line == 10);  // body nodes keep their place in the PROTO
     CHECK(scene.nodes[1].world.translation().isZero());
     REQUIRE(scene.nodes[1].meshes.size() == 1);
-    CHECK(signed_volume(scene.nodes[1].meshes[0]) == doctest::Approx(8.0));
+    CHECK(signed_volume(scene.nodes[1].meshes[0]) == mbx_test::relative(8.0, 1e-6));
     CHECK(scene.nodes[3].name == "P2");
     CHECK(scene.nodes[4].world.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
-    CHECK(signed_volume(scene.nodes[4].meshes[0]) == doctest::Approx(4.0));
+    CHECK(signed_volume(scene.nodes[4].meshes[0]) == mbx_test::relative(4.0, 1e-6));
     CHECK(scene.nodes[6].name == "X");
     CHECK(scene.nodes[6].parent == 5);
     CHECK(scene.nodes[6].world.translation().isApprox(Eigen::Vector3d(1, 2, 4)));
