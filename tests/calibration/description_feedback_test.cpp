@@ -61,8 +61,8 @@ BodyCorrection fed_back(const mbx_test::CaseSpec& spec, const mbx_test::TempDir&
     MESSAGE(spec.name << ": calibrated " << r.final_step().simulated_fit << " / " << r.final_step().simulated_validation
                       << " %, fed back " << again.baseline().simulated_fit << " / "
                       << again.baseline().simulated_validation << " %");
-    CHECK(again.baseline().simulated_fit == mbx_test::relative(r.final_step().simulated_fit, 0.01));
-    CHECK(again.baseline().simulated_validation == mbx_test::relative(r.final_step().simulated_validation, 0.01));
+    CHECK(again.baseline().simulated_fit == mbx_test::relative(r.final_step().simulated_fit, 1e-9));
+    CHECK(again.baseline().simulated_validation == mbx_test::relative(r.final_step().simulated_validation, 1e-9));
     CHECK(again.identification.causes.empty());
     return found;
 }

@@ -86,8 +86,8 @@ TEST_CASE("calibration: compliance is named, written to description.xml and fed 
     MESSAGE("calibrated " << r.final_step().simulated_fit << " / " << r.final_step().simulated_validation
                           << " %, fed back " << again.baseline().simulated_fit << " / "
                           << again.baseline().simulated_validation << " %");
-    CHECK(again.baseline().simulated_fit == mbx_test::relative(r.final_step().simulated_fit, 0.01));
-    CHECK(again.baseline().simulated_validation == mbx_test::relative(r.final_step().simulated_validation, 0.01));
+    CHECK(again.baseline().simulated_fit == mbx_test::relative(r.final_step().simulated_fit, 1e-9));
+    CHECK(again.baseline().simulated_validation == mbx_test::relative(r.final_step().simulated_validation, 1e-9));
     // The linear stage sees the transmission in its rigid limit (its motor
     // inertia as armature): neither it nor another armature is named again,
     // and the stage says why it does not refit it. (What the rigid limit

@@ -122,9 +122,10 @@ TEST_CASE("contact stage: calibrate() on the tosses names what the C++ contact f
     CHECK(friction);
     // The naive mu 0.5 is far above what the board gives (the published fit: 0.218).
     CHECK(got.model.settings.friction.mu_kinetic < 0.35);
-    // The C++ fit on its 12 training tosses names mu 0.205 (docs/contact.md); these 6 tell nearly the same.
+    // The C++ fit on its 12 training tosses names mu 0.205 (docs/contact.md); these 6 tell
+    // the same within 3 % (docs/calibration.md).
     if (!kSlowBuild)
-        CHECK(std::abs(got.model.settings.friction.mu_kinetic / 0.205 - 1) < 0.1);
+        CHECK(got.model.settings.friction.mu_kinetic == mbx_test::relative(0.205, 0.03));
     else
         MBX_SKIP_PART("mu's value needs the release build's training tosses");
     CHECK(r.final_step().simulated_validation < r.baseline().simulated_validation);

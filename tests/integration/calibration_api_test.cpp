@@ -158,8 +158,8 @@ TEST_CASE("calibration api: EMPS calibrated, written, and the written descriptio
     const mbx_calibration_summary s2 = summary_of(second.get());
     MESSAGE("calibrated " << s.final_simulated_fit_error << " / " << s.final_simulated_validation_error
                           << " %; fed back " << s2.baseline_simulated_fit_error << " / " << s2.baseline_simulated_validation_error << " %");
-    CHECK(s2.baseline_simulated_fit_error == mbx_test::relative(s.final_simulated_fit_error, 0.02));
-    CHECK(s2.baseline_simulated_validation_error == mbx_test::relative(s.final_simulated_validation_error, 0.02));
+    CHECK(s2.baseline_simulated_fit_error == mbx_test::relative(s.final_simulated_fit_error, 1e-9));
+    CHECK(s2.baseline_simulated_validation_error == mbx_test::relative(s.final_simulated_validation_error, 1e-9));
 }
 
 TEST_CASE("calibration api: bad arguments, bad files and cancellation write nothing") {

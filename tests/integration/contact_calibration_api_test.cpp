@@ -146,8 +146,9 @@ TEST_CASE("contact calibration api: tosses in an experiment file name friction, 
                                  << " % -> " << first.summary.final_simulated_validation_error << " % (validation)");
     if (!kSlowBuild) {
         CHECK(first.json.find("\"cause\": \"contact_friction\"") != std::string::npos);
-        // The C++ contact fit on its 12 training tosses names mu 0.205 (docs/contact.md).
-        CHECK(std::abs(mu / 0.205 - 1) < 0.1);
+        // The C++ contact fit on its 12 training tosses names mu 0.205 (docs/contact.md); these
+        // 6 tell the same within 3 % (docs/calibration.md).
+        CHECK(mu == mbx_test::relative(0.205, 0.03));
         REQUIRE(!first.causes.empty());
         CHECK(first.causes[0] == "contact_friction");
         CHECK(first.mu == mu);
