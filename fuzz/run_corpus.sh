@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table)
+((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table step)
 bash .ci/install-deps  # clang-15, libfuzzer-15-dev, libomp-15-dev among them
 dir=$(bash .ci/configure sanitize)
 out=${MBX_FUZZ_OUT:-$dir/artifacts}
@@ -30,12 +30,22 @@ run_target() {
   case $t in
     vrml) dict=(-dict=fuzz/dict/vrml.dict) ;;
     pmxml | object_library | drive_file | experiment) dict=(-dict=fuzz/dict/xml.dict) ;;
+    step) dict=(-dict=fuzz/dict/step.dict) ;;
   esac
+  # The STEP reader also starts from real parts (../shared, read only).
+  local seeds=()
+  if [[ $t == step ]]; then
+    mkdir -p "$scratch/step_seeds"
+    for f in ../shared/data/step/dfki_double_pendulum/lever_*.STEP /usr/share/opencascade/data/step/screw.step; do
+      [[ -f $f ]] && ln -sf "$(realpath "$f")" "$scratch/step_seeds/"
+    done
+    seeds=("$scratch/step_seeds")
+  fi
   mkdir -p "$scratch/$t"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: libFuzzer's
   # default, stated so the figures in docs/fuzzing.md say what they were run with.
   "$dir/bin/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$out/fuzz_${t}-" "${dict[@]}" "$scratch/$t" "fuzz/corpus/$t" >"$scratch/$t.log" 2>&1 || status=$?
+    -artifact_prefix="$out/fuzz_${t}-" "${dict[@]}" "$scratch/$t" "fuzz/corpus/$t" "${seeds[@]}" >"$scratch/$t.log" 2>&1 || status=$?
   echo "$status" >"$scratch/$t.status"
 }
 # Each target is one single-threaded process: as many run at once as there are

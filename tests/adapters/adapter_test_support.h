@@ -17,6 +17,7 @@
 #include "../common/temp_dir.h"
 #include "../common/file_text.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace atest {
 
@@ -88,15 +89,9 @@ private:
     uint64_t state_;
 };
 
-// shared/data/pmxml beside the repository; "" (and a message) when absent.
+// shared/data/pmxml beside the repository; the test is skipped without it.
 inline std::string pmxml_data_dir() {
-    const std::filesystem::path dir = std::filesystem::path(MBX_SHARED_DIR) / "data" / "pmxml";
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) {
-        mbx_test::record_skip("the real PMXML files are not at " + dir.string());
-        return {};
-    }
-    return dir.string();
+    return mbx_test::shared_data("pmxml");
 }
 
 }  // namespace atest

@@ -22,6 +22,7 @@
 #include "sim/simulation.h"
 #include "temp_dir.h"
 #include "tests/common/near.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -299,7 +300,7 @@ TEST_CASE("body quantities: the EMPS carriage's position in closed loop is the s
 
     // The training record's first 3 s, with the carriage's position along
     // that world axis as a body column.
-    const Table train = read_csv(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
+    const Table train = read_csv(mbx_test::shared_data("measured/emps/emps_train.csv"));
     std::string csv = "t_s,q_meas_m,q_ref_m,force_N,carriage\n";
     for (size_t k = 0; k < train.columns[0].size() && train.columns[size_t(train.column("t_s"))][k] <= 3.0; ++k) {
         const double q = train.columns[size_t(train.column("q_meas_m"))][k];
@@ -446,7 +447,7 @@ TEST_CASE("body quantities: the start velocities estimated from the tracked pose
     // from the same poses; a free replay or the contact stage estimates them
     // when the columns are absent. At the first sample of each toss (a
     // one-sided fit, where a rollout starts) the two agree to a few percent.
-    const Table table = read_csv(std::string(MBX_SHARED_DATA) + "/measured/contactnets_cube/cube_tosses.csv");
+    const Table table = read_csv(mbx_test::shared_data("measured/contactnets_cube/cube_tosses.csv"));
     auto col = [&](const char* name) { return &table.columns[size_t(table.column(name))]; };
     const std::vector<double>* id = col("toss_id");
     const char* pos[] = {"x_m", "y_m", "z_m"};

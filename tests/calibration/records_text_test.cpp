@@ -10,13 +10,14 @@
 #include "calibration/records/records.h"
 #include "core/finding.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
 using namespace mbx::calibration;
 
 TEST_CASE("read_csv_text reads what read_csv reads from the file, errors naming the given path") {
-    const std::string path = MBX_SHARED_DATA "/measured/emps/emps_train.csv";
+    const std::string path = mbx_test::shared_data("measured/emps/emps_train.csv");
     std::ifstream file(path, std::ios::binary);
     if (!file) {
         MBX_SKIP("no " << path);

@@ -8,9 +8,53 @@
 
 #include "tests/common/skip.h"
 
+namespace mbx_test {
+
+// Whether the exception that ended the current case was a SkipTest.
+inline bool& skip_thrown() {
+    static bool thrown = false;
+    return thrown;
+}
+
+// Counts the cases that failed for a reason other than a SkipTest: a case
+// whose only "failure" is the skip it threw is a skip, nothing more.
+struct SkipListener : doctest::IReporter {
+    static int& real_failures() {
+        static int n = 0;
+        return n;
+    }
+    explicit SkipListener(const doctest::ContextOptions&) {}
+    void report_query(const doctest::QueryData&) override {}
+    void test_run_start() override {}
+    void test_run_end(const doctest::TestRunStats&) override {}
+    void test_case_start(const doctest::TestCaseData&) override { skip_thrown() = false; }
+    void test_case_reenter(const doctest::TestCaseData&) override {}
+    void test_case_end(const doctest::CurrentTestCaseStats& stats) override {
+        if (!stats.testCaseSuccess && !(skip_thrown() && stats.numAssertsFailedCurrentTest == 0)) ++real_failures();
+        skip_thrown() = false;
+    }
+    void test_case_exception(const doctest::TestCaseException&) override {}
+    void subcase_start(const doctest::SubcaseSignature&) override {}
+    void subcase_end() override {}
+    void log_assert(const doctest::AssertData&) override {}
+    void log_message(const doctest::MessageData&) override {}
+    void test_case_skipped(const doctest::TestCaseData&) override {}
+};
+
+}  // namespace mbx_test
+
+DOCTEST_REGISTER_LISTENER("mbx_skips", 1, mbx_test::SkipListener);
+
+DOCTEST_REGISTER_EXCEPTION_TRANSLATOR(const mbx_test::SkipTest& skip) {
+    mbx_test::record_skip(skip.reason);
+    mbx_test::skip_thrown() = true;
+    return doctest::String(("skipped: " + skip.reason).c_str());
+}
+
 int main(int argc, char** argv) {
     doctest::Context context(argc, argv);
     const int status = context.run();
-    if (context.shouldExit() || status != 0) return status;
-    return mbx_test::skip_reasons().empty() ? 0 : 77;
+    if (context.shouldExit()) return status;
+    if (mbx_test::SkipListener::real_failures() == 0 && !mbx_test::skip_reasons().empty()) return 77;
+    return status;
 }

@@ -1,8 +1,9 @@
 // A test that cannot run says why and is reported as skipped, never as passed
 // (docs/testing.md). MBX_SKIP("no " << path) prints the reason, records it and
-// returns from the test case; the runner (doctest_main.h) then exits with 77,
-// which ctest reports as a skip (SKIP_RETURN_CODE), but only when every check
-// that did run passed: a skip never hides a failure.
+// returns from the test case; from a helper that returns a value, throw
+// SkipTest (shared_data.h does). The runner (doctest_main.h) then exits with
+// 77, which ctest reports as a skip (SKIP_RETURN_CODE), but only when every
+// check that did run passed: a skip never hides a failure.
 #pragma once
 
 #include <cstdio>
@@ -16,6 +17,11 @@ inline std::vector<std::string>& skip_reasons() {
     static std::vector<std::string> reasons;
     return reasons;
 }
+
+// Thrown where a test cannot go on and cannot return (a helper's value).
+struct SkipTest {
+    std::string reason;
+};
 
 inline void record_skip(const std::string& reason) {
     std::printf("MBX_SKIPPED: %s\n", reason.c_str());

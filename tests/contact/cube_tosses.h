@@ -17,12 +17,13 @@
 #include "host_adapters/memory/memory_host.h"
 #include "sim/build_model.h"
 #include "core/translator/translate.h"
+#include "tests/common/shared_data.h"
 
 namespace mbx_test {
 
 constexpr double kCubeEdge = 0.1048, kCubeMass = 0.37, kCubeInertia = kCubeMass * kCubeEdge * kCubeEdge / 6;
 
-inline std::string cube_tosses_path() { return std::string(MBX_SHARED_DATA) + "/measured/contactnets_cube/cube_tosses.csv"; }
+inline std::string cube_tosses_path() { return mbx_test::shared_data("measured/contactnets_cube/cube_tosses.csv"); }
 
 // The cube as a free body of a translated assembly (mbx's own pipeline;
 // no doctest here, bench_contact uses it too).

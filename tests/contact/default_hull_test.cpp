@@ -22,6 +22,7 @@
 #include "sim/contact/detection.h"
 #include "sim/dynamics.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -33,8 +34,7 @@ namespace {
 constexpr double g = 9.81;
 
 std::unique_ptr<xtest::Translated> ergocub() {
-    const std::string root = std::string(MBX_SHARED_DATA) + "/pmxml/ergocub";
-    if (!std::filesystem::exists(root + "/SIM_ERGOCUB_1-0.xml")) return nullptr;
+    const std::string root = mbx_test::shared_data("pmxml/ergocub");
     mbx_files::FileAdapterOptions o;
     o.mesh_dirs.push_back(root + "/meshes/simmechanics");
     return xtest::translate_file(root + "/SIM_ERGOCUB_1-0.xml", o);
@@ -106,9 +106,7 @@ TEST_CASE("default hulls: a body's own shapes replace the default, parts without
 
 TEST_CASE("default hulls: every ergoCub part with a mesh gets a hull holding its mesh's vertices, within the vertex cap") {
     auto t = ergocub();
-    if (!t) {
-        MBX_SKIP("ergoCub data not present under " << MBX_SHARED_DATA);
-    }
+    REQUIRE(t);
     const Mechanism& m = *t->mechanism;
     ContactSpec spec;
     spec.shapes.push_back(hull_default());
@@ -188,9 +186,7 @@ TEST_CASE("default hulls: hull cost grows near-linearly with the point count") {
 
 TEST_CASE("default hulls: an ergoCub part dropped onto a plane with its default hull rests on its lowest hull vertex") {
     auto t = ergocub();
-    if (!t) {
-        MBX_SKIP("ergoCub data not present under " << MBX_SHARED_DATA);
-    }
+    REQUIRE(t);
     const Mechanism& m = *t->mechanism;
     ContactSpec spec;
     spec.shapes.push_back(hull_default());
@@ -251,9 +247,7 @@ TEST_CASE("default hulls: an ergoCub part dropped onto a plane with its default 
 
 TEST_CASE("default hulls: ergoCub's hulls at its CAD pose, pairs not joined by a joint") {
     auto t = ergocub();
-    if (!t) {
-        MBX_SKIP("ergoCub data not present under " << MBX_SHARED_DATA);
-    }
+    REQUIRE(t);
     const Mechanism& m = *t->mechanism;
     ContactSpec spec;
     spec.shapes.push_back(hull_default());

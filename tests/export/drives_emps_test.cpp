@@ -15,6 +15,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_helpers.h"
 #include "tests/common/near.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -101,7 +102,7 @@ TEST_CASE("drives: the EMPS axis built from CAD and library data reproduces the 
     CHECK(mass_matrix == mbx_test::relative(9.42 + d.armature, 1e-9));
     CHECK(mass_matrix == mbx_test::relative(95.11, 0.005));
 
-    const EmpsRecord rec = read_emps(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
+    const EmpsRecord rec = read_emps(mbx_test::shared_data("measured/emps/emps_train.csv"));
     REQUIRE(rec.t.size() == 24841);
 
     // With the authors' friction the loop reproduces the rig to their own

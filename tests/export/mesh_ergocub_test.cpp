@@ -15,6 +15,7 @@
 #include "export/mesh/mesh_export.h"
 #include "mesh_readback.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -52,7 +53,7 @@ size_t stl_triangles(const std::string& path) {
 }  // namespace
 
 TEST_CASE("mesh files: ergoCub gives one STL per body with geometry, triangles summed over its parts") {
-    const std::string root = std::string(MBX_SHARED_DATA) + "/pmxml/ergocub";
+    const std::string root = mbx_test::shared_data("pmxml/ergocub");
     const std::string xml = root + "/SIM_ERGOCUB_1-0.xml";
     const std::string mesh_dir = root + "/meshes/simmechanics";
     if (!std::filesystem::exists(xml)) {

@@ -19,6 +19,7 @@
 #include "../../sim/contact/parameter_conversion.h"
 #include "tests/common/near.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -238,10 +239,7 @@ TEST_CASE("MJCF contact: a box rests in MuJoCo at mbx's m g / (4 k); a hull, on 
 }
 
 TEST_CASE("MJCF contact: ergoCub's default hulls collide in MuJoCo, except the pairs overlapping at the CAD pose, as in mbx") {
-    const std::string root = std::string(MBX_SHARED_DATA) + "/pmxml/ergocub";
-    if (!std::filesystem::exists(root + "/SIM_ERGOCUB_1-0.xml")) {
-        MBX_SKIP("ergoCub data not present at " << root);
-    }
+    const std::string root = mbx_test::shared_data("pmxml/ergocub");
     mbx_files::FileAdapterOptions o;
     o.mesh_dirs.push_back(root + "/meshes/simmechanics");
     auto t = xtest::translate_file(root + "/SIM_ERGOCUB_1-0.xml", o);

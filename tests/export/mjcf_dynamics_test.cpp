@@ -8,6 +8,7 @@
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
 #include "tests/common/near.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -202,7 +203,7 @@ TEST_CASE("MJCF: loops stay closed while the mechanisms move") {
          },
          1, 0, -Vec3::UnitZ()},
         {"legs_mechanism_2015",
-         [] { return xtest::translate_file(std::string(MBX_SHARED_DATA) + "/pmxml/legs_mechanism_2015/LEGS_MECHANISM.xml"); },
+         [] { return xtest::translate_file(mbx_test::shared_data("pmxml/legs_mechanism_2015/LEGS_MECHANISM.xml")); },
          1},
     };
     for (const LoopCase& lc : cases) {

@@ -11,6 +11,7 @@
 #include "export/mjcf/mjcf_export.h"
 #include "mujoco_assemblies.h"
 #include "mujoco_helpers.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -18,12 +19,13 @@ using namespace mbx;
 
 namespace {
 
-const std::string kData = std::string(MBX_SHARED_DATA) + "/pmxml";
+// (a function: a missing folder skips the test that asks, not the executable)
+std::string data_dir() { return mbx_test::shared_data("pmxml"); }
 
 std::unique_ptr<xtest::Translated> open_ergocub() {
     mbx_files::FileAdapterOptions o;
-    o.mesh_dirs.push_back(kData + "/ergocub/meshes/simmechanics");
-    return xtest::translate_file(kData + "/ergocub/SIM_ERGOCUB_1-0.xml", o);
+    o.mesh_dirs.push_back(data_dir() + "/ergocub/meshes/simmechanics");
+    return xtest::translate_file(data_dir() + "/ergocub/SIM_ERGOCUB_1-0.xml", o);
 }
 
 // Every body MuJoCo has is where mbx puts it at qpos0 (= the CAD pose).
@@ -87,7 +89,7 @@ TEST_CASE("MJCF: ironCub and the legs mechanisms load, sit at their CAD pose and
     for (const char* f : {"/ironcub/IRONCUB-MK1_SIM_MODEL.xml", "/ironcub/IRONCUB-MK1_1_SIM_MODEL.xml",
                           "/legs_mechanism_2014/LEGS_MECHANISM.xml", "/legs_mechanism_2015/LEGS_MECHANISM.xml"}) {
         CAPTURE(f);
-        auto t = xtest::translate_file(kData + f);
+        auto t = xtest::translate_file(data_dir() + f);
         const Mechanism& m = *t->mechanism;
         mbx_test::TempDir dir("mbx_mjcf_real");
         xtest::MuJoCoRun run = xtest::load_mjcf(*t, dir);

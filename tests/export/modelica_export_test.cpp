@@ -16,6 +16,7 @@
 #include "modelica_support.h"
 #include "tests/common/file_text.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -33,13 +34,7 @@ bool has_note(const Findings& notes, mbx_finding_code code, const std::string& f
 }
 
 std::string pmxml_dir() {
-    const fs::path dir = fs::path(MBX_SHARED_DATA) / "pmxml";
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) {
-        mbx_test::record_skip("the real PMXML files are not at " + dir.string());
-        return {};
-    }
-    return dir.string();
+    return mbx_test::shared_data("pmxml");
 }
 
 using mbx_stub::build::Builder;

@@ -10,6 +10,7 @@
 
 #include "export_fixture.h"
 #include "mujoco_assemblies.h"
+#include "tests/common/shared_data.h"
 
 namespace simtest {
 
@@ -47,7 +48,7 @@ inline std::vector<Input> sample_inputs() {
 
 inline std::vector<Input> shared_pmxml_inputs() {
     std::vector<Input> in;
-    const std::string data = std::string(MBX_SHARED_DATA) + "/pmxml";
+    const std::string data = mbx_test::shared_data("pmxml");
     in.push_back({"ergoCub", [data] {
                       mbx_files::FileAdapterOptions o;
                       o.mesh_dirs.push_back(data + "/ergocub/meshes/simmechanics");

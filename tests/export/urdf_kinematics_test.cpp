@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "urdf_consumer.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -12,7 +13,7 @@ using namespace urdf_test;
 
 namespace {
 
-std::string data_dir() { return std::string(MBX_SHARED_DATA) + "/pmxml"; }
+std::string data_dir() { return mbx_test::shared_data("pmxml"); }
 
 }  // namespace
 

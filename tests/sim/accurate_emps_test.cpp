@@ -16,6 +16,7 @@
 #include "sim/build_model.h"
 #include "sim/cvode_session.h"
 #include "tests/common/near.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -29,7 +30,7 @@ TEST_CASE("sim accurate: the EMPS axis with stick/slip friction reproduces the r
         xtest::resolve_drive_file(m, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
     REQUIRE(drives.size() == 1);
     REQUIRE(drives[0].spec.controller.sample_period == mbx_test::relative(1e-3, 1e-6));
-    const mbx_test::EmpsRecord rec = mbx_test::read_emps(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
+    const mbx_test::EmpsRecord rec = mbx_test::read_emps(mbx_test::shared_data("measured/emps/emps_train.csv"));
     REQUIRE(rec.t.size() == 24841);
 
     sim::BuildOptions options;

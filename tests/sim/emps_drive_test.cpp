@@ -15,6 +15,7 @@
 #include "sim/build_model.h"
 #include "sim/integrator.h"
 #include "tests/common/near.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -57,7 +58,7 @@ TEST_CASE("sim: the EMPS axis in mbx's simulator reproduces the rig's closed loo
     const std::vector<Drive> drives =
         xtest::resolve_drive_file(m, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
     REQUIRE(drives.size() == 1);
-    const EmpsRecord rec = read_emps(std::string(MBX_SHARED_DATA) + "/measured/emps/emps_train.csv");
+    const EmpsRecord rec = read_emps(mbx_test::shared_data("measured/emps/emps_train.csv"));
     REQUIRE(rec.t.size() == 24841);
     REQUIRE(rec.t[0] == 0);
 

@@ -21,6 +21,7 @@
 #include "core/mechatronics/drive_controller.h"
 #include "tests/common/near.h"
 #include "tests/common/skip.h"
+#include "tests/common/shared_data.h"
 
 namespace MBX_UNITY_ID {
 
@@ -59,16 +60,13 @@ struct Emps {
 };
 
 // Columns t_s,q_ref_m,q_meas_m,u_drive_V,force_N[,pulse_cmd] (pulse 0 when
-// absent); empty when the shared folder is not beside the repository (then
-// the test is skipped).
+// absent); the test is skipped when the shared folder is not beside the
+// repository.
 Emps load_emps(const std::string& name) {
     Emps d;
-    const std::filesystem::path path = std::filesystem::path(MBX_SHARED_DATA) / "measured" / "emps" / name;
+    const std::string path = mbx_test::shared_data("measured/emps/" + name);
     std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        mbx_test::record_skip("the EMPS record is not at " + path.string());
-        return d;
-    }
+    REQUIRE_MESSAGE(in, "cannot read " << path);
     std::ostringstream buf;
     buf << in.rdbuf();
     const std::string text = buf.str();

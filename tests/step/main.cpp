@@ -1,0 +1,2 @@
+// The one translation unit per test executable that holds the runner.
+#include "tests/common/doctest_main.h"
