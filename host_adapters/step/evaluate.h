@@ -1,0 +1,50 @@
+// Points on STEP curves and surfaces, parameters of points on them, and each
+// edge turned into a polyline within a chord and an angle tolerance: what the
+// tessellation meshes faces from. Parametrisations are ISO 10303-42's (a
+// circle from its frame's x axis, a cone by the height along its axis, a
+// torus's minor angle from the plane of its major circle).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <utility>
+#include <vector>
+
+#include "host_adapters/step/brep.h"
+#include "host_adapters/step/geometry.h"
+
+namespace mbx_step {
+
+struct Tolerance {
+    double chord = 1e-5;             // metres: the largest distance from a chord to its curve
+    double angle = 5 * 3.14159265358979323846 / 180;  // radians: the largest turn along one segment
+};
+
+// B-splines (rational ones through their weights), at parameter u (and v).
+Eigen::Vector3d spline_point(const BSpline& s, double u);
+Eigen::Vector3d spline_point(const BSpline& s, double u, double v);
+// The surface's first derivatives along u and v at (u, v).
+void spline_derivatives(const BSpline& s, double u, double v, Eigen::Vector3d& du, Eigen::Vector3d& dv);
+
+// A curve's point at parameter t (a B-spline's knot parameter, a circle's
+// angle, a line's length), and the parameter of the point of the curve
+// nearest to q (for a B-spline: sampled, then refined by Newton's method).
+Eigen::Vector3d curve_point(const Curve& c, double t);
+double curve_parameter(const Curve& c, const Eigen::Vector3d& q);
+// The period of a closed curve's parameter (2 pi for circles and ellipses), 0 otherwise.
+double curve_period(const Curve& c);
+
+// The edge as points from its start vertex to its end vertex (both exactly
+// the vertices' points), dense enough for the tolerance. A closed edge (start
+// and end the same vertex) goes once around its curve.
+std::vector<Eigen::Vector3d> discretise(const Brep& b, const Edge& e, const Tolerance& tolerance);
+
+// A surface's point at (u, v), and the (u, v) of the point nearest to q; u
+// (and v, on a torus) periodic with period 2 pi on the surfaces of
+// revolution, the result taken nearest to `near` when given.
+Eigen::Vector3d surface_point(const Surface& s, double u, double v);
+Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, const Eigen::Vector2d* near = nullptr);
+// The periods of u and v (0: not periodic).
+Eigen::Vector2d surface_periods(const Surface& s);
+
+}  // namespace mbx_step
