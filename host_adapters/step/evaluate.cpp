@@ -7,9 +7,10 @@
 
 namespace mbx_step {
 
+using Eigen::Vector2d;
+
 namespace {
 
-constexpr double kTwoPi = 2 * M_PI;
 
 // The knot span holding u (The NURBS Book, A2.1), clamped to the curve's range.
 int find_span(const std::vector<double>& U, int p, int n, double u) {
@@ -374,15 +375,38 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
             uv = {x, y};
             break;
         case Surface::Kind::Cylinder:
-        case Surface::Kind::Cone:
             uv = {std::atan2(y, x), z};
+            break;
+        case Surface::Kind::Cone:
+            // Beyond the apex the radius R + v tan(a) is negative: the point is
+            // on the far side of the axis from u.
+            uv = {std::atan2(y, x) + (s.radius + z * std::tan(s.semi_angle) < 0 ? M_PI : 0.0), z};
             break;
         case Surface::Kind::Sphere:
             uv = {std::atan2(y, x), std::atan2(z, std::hypot(x, y))};
             break;
-        case Surface::Kind::Torus:
-            uv = {std::atan2(y, x), std::atan2(z, std::hypot(x, y) - s.radius)};
+        case Surface::Kind::Torus: {
+            // A torus whose major radius is smaller than its minor one passes
+            // through its axis: a point may lie where R + r cos(v) < 0, on the
+            // far side of the axis from u. The candidate on the surface wins
+            // (the one nearest `near` where both are).
+            const double rho = std::hypot(x, y), u = std::atan2(y, x);
+            const Vector2d a(u, std::atan2(z, rho - s.radius)), b(u + M_PI, std::atan2(z, -rho - s.radius));
+            const double da = (surface_point(s, a.x(), a.y()) - q).norm(), db = (surface_point(s, b.x(), b.y()) - q).norm();
+            const double tie = 1e-9 * (s.radius + s.minor_radius);
+            if (std::abs(da - db) > tie || !near) {
+                uv = da <= db ? a : b;
+            } else {
+                const Vector2d periods = surface_periods(s);
+                Vector2d na = a, nb = b;
+                for (int k = 0; k < 2; ++k) {
+                    na[k] = nearest_period(na[k], periods[k], (*near)[k]);
+                    nb[k] = nearest_period(nb[k], periods[k], (*near)[k]);
+                }
+                uv = (na - *near).norm() <= (nb - *near).norm() ? na : nb;
+            }
             break;
+        }
         case Surface::Kind::Revolution: {
             // u: the turn about the axis from the profile's own half-plane.
             const Curve& c = s.swept[0];
@@ -412,30 +436,43 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
             const BSpline& b = s.spline;
             const auto [u0, u1] = spline_range(b, false);
             const auto [v0, v1] = spline_range(b, true);
+            auto newton = [&](Vector2d t) {
+                for (int k = 0; k < 30; ++k) {
+                    Eigen::Vector3d du, dv;
+                    spline_derivatives(b, t.x(), t.y(), du, dv);
+                    const Eigen::Vector3d r = spline_point(b, t.x(), t.y()) - q;
+                    Eigen::Matrix2d J;
+                    J << du.dot(du), du.dot(dv), du.dot(dv), dv.dot(dv);
+                    const Vector2d g(du.dot(r), dv.dot(r));
+                    if (!(std::abs(J.determinant()) > 0)) break;
+                    const Vector2d step = J.ldlt().solve(g);
+                    t -= step;
+                    t.x() = std::clamp(t.x(), u0, u1);
+                    t.y() = std::clamp(t.y(), v0, v1);
+                    if (step.norm() < 1e-15 * std::max(1.0, std::max(u1 - u0, v1 - v0))) break;
+                }
+                return t;
+            };
+            // From the neighbour's parameters first (a loop's next point is
+            // close); the grid search only when that does not land on q.
+            if (near) {
+                const Vector2d t = newton(*near);
+                const double miss = (spline_point(b, t.x(), t.y()) - q).norm();
+                const double size = (spline_point(b, u0, v0) - spline_point(b, u1, v1)).norm() +
+                                    (spline_point(b, u0, v1) - spline_point(b, u1, v0)).norm();
+                // (edge points lie only within the exporter's tolerance of the
+                // surface, so Newton's foot point a little off q is the answer)
+                if (miss <= 1e-5 * std::max(size, 1e-12)) return t;
+            }
             const int nu = std::max(8, 4 * b.rows), nv = std::max(8, 4 * b.columns);
             double best = INFINITY;
             for (int i = 0; i <= nu; ++i)
                 for (int j = 0; j <= nv; ++j) {
-                    const Eigen::Vector2d t(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
+                    const Vector2d t(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv);
                     const double dist = (spline_point(b, t.x(), t.y()) - q).squaredNorm();
                     if (dist < best) best = dist, uv = t;
                 }
-            if (near && (spline_point(b, near->x(), near->y()) - q).squaredNorm() <= best) uv = *near;
-            for (int k = 0; k < 30; ++k) {
-                Eigen::Vector3d du, dv;
-                spline_derivatives(b, uv.x(), uv.y(), du, dv);
-                const Eigen::Vector3d r = spline_point(b, uv.x(), uv.y()) - q;
-                Eigen::Matrix2d J;
-                J << du.dot(du), du.dot(dv), du.dot(dv), dv.dot(dv);
-                const Eigen::Vector2d g(du.dot(r), dv.dot(r));
-                if (!(std::abs(J.determinant()) > 0)) break;
-                const Eigen::Vector2d step = J.ldlt().solve(g);
-                uv -= step;
-                uv.x() = std::clamp(uv.x(), u0, u1);
-                uv.y() = std::clamp(uv.y(), v0, v1);
-                if (step.norm() < 1e-15 * std::max(1.0, std::max(u1 - u0, v1 - v0))) break;
-            }
-            return uv;
+            return newton(uv);
         }
         case Surface::Kind::Unsupported:
             return uv;

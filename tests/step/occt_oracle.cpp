@@ -4,6 +4,7 @@
 // in metres (the inertia about the centroid, unit density, products as
 // +integral xy dm), then "distinct <faces> <edges> <vertices>" over the solids'
 // shared definitions (placed copies counted once).
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepGProp.hxx>
 #include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -20,12 +21,14 @@
 
 #include <cstdio>
 #include <set>
+#include <string>
 
 int main(int argc, char** argv) {
-    if (argc != 2) {
-        std::fprintf(stderr, "usage: %s file.step\n", argv[0]);
+    if (argc != 2 && !(argc == 3 && std::string(argv[2]) == "--faces")) {
+        std::fprintf(stderr, "usage: %s file.step [--faces]\n", argv[0]);
         return 2;
     }
+    const bool faces_too = argc == 3;
     Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_Printer));
     STEPControl_Reader reader;
     Interface_Static::SetCVal("xstep.cascade.unit", "M");
@@ -49,6 +52,12 @@ int main(int argc, char** argv) {
         BRepGProp::VolumeProperties(solid, props);
         const gp_Pnt c = props.CentreOfMass();
         const gp_Mat I = props.MatrixOfInertia();
+        // With --faces: "face <index> <surface type> <area m^2>" for each face, in the solid's order.
+        for (int k = 1; faces_too && k <= f.Extent(); ++k) {
+            GProp_GProps area;
+            BRepGProp::SurfaceProperties(f(k), area);
+            std::printf("face %d %d %.17g\n", k, int(BRepAdaptor_Surface(TopoDS::Face(f(k))).GetType()), area.Mass());
+        }
         std::printf("solid %d %d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", f.Extent(), e.Extent(),
                     v.Extent(), props.Mass(), c.X(), c.Y(), c.Z(), I(1, 1), I(2, 2), I(3, 3), -I(1, 2), -I(1, 3), -I(2, 3));
     }
