@@ -434,8 +434,9 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
         }
         case Surface::Kind::BSpline: {
             const BSpline& b = s.spline;
-            const auto [u0, u1] = spline_range(b, false);
-            const auto [v0, v1] = spline_range(b, true);
+            // (plain doubles: a lambda may not capture structured bindings in C++17)
+            const double u0 = spline_range(b, false).first, u1 = spline_range(b, false).second;
+            const double v0 = spline_range(b, true).first, v1 = spline_range(b, true).second;
             auto newton = [&](Vector2d t) {
                 for (int k = 0; k < 30; ++k) {
                     Eigen::Vector3d du, dv;
