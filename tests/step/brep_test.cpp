@@ -66,10 +66,11 @@ TEST_CASE("step brep: every solid of the real files, each closed shell traversin
                             auto& u = uses[oe.edge];
                             (oe.forward == l.orientation ? u.first : u.second)++;
                         }
-                for (const auto& [edge, u] : uses) {
-                    CAPTURE(f.instances[b.edges[edge].entity].id);
-                    CHECK(u.first == 1);
-                    CHECK(u.second == 1);
+                for (const auto& use : uses) {
+                    const uint64_t edge_id = f.instances[b.edges[use.first].entity].id;  // (CAPTURE takes no structured binding)
+                    CAPTURE(edge_id);
+                    CHECK(use.second.first == 1);
+                    CHECK(use.second.second == 1);
                 }
             }
         }
