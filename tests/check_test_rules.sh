@@ -24,6 +24,8 @@ refuse '(^|[^A-Za-z_])Approx[[:space:]]*\(|doctest::Approx' \
 refuse '\.epsilon[[:space:]]*\(' "an epsilon (use relative() or within() from tests/common/near.h)"
 refuse 'doctest::skip' "a doctest::skip decorator (call MBX_SKIP with the reason)"
 refuse 'MESSAGE\(.*[Ss]kip' "a skip told only in a message (call MBX_SKIP or MBX_SKIP_PART with the reason)"
+# ctest's test list splits a name at ';': the halves match no case and pass having run nothing.
+refuse 'TEST_CASE\("[^"]*;' "a ';' in a test case's name (ctest splits it there)"
 if ((status == 0)); then
   echo "test rules hold over $(echo "$files" | wc -l) files"
 fi

@@ -58,7 +58,7 @@ TEST_CASE("cli: a broken XML file is 'mbx: file:line: message', exit 1, nothing 
     CHECK_FALSE(std::filesystem::exists(dir.file("out")));
 }
 
-TEST_CASE("cli: usage mentions the file options; they need an XML input") {
+TEST_CASE("cli: usage mentions the file options, they need an XML input") {
     atest::TempDir dir;
     const Run help = run_cli(dir, "translate --help");
     CHECK(help.code == 0);
@@ -120,7 +120,7 @@ TEST_CASE("cli: mbx library shows derived motor constants, and names file and li
     CHECK(run_cli(dir, "library").code == 2);
 }
 
-TEST_CASE("cli: --drives exports the arm with its drives in every format; a bad drive file writes nothing") {
+TEST_CASE("cli: --drives exports the arm with its drives in every format, a bad drive file writes nothing") {
     atest::TempDir dir;
     const std::string arm = std::string(MBX_SAMPLES_DIR) + "/five_axis_arm/five_axis_arm.xml";
     const std::string drives = std::string(MBX_SAMPLES_DIR) + "/mechatronics/five_axis_arm_drives.xml";

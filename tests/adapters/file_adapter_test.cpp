@@ -212,7 +212,7 @@ TEST_CASE("adapter: errors are FileErrors with the file and line") {
     }
 }
 
-TEST_CASE("adapter: VRML shapes attach to bodies by pose; own mesh files win") {
+TEST_CASE("adapter: VRML shapes attach to bodies by pose, own mesh files win") {
     atest::TempDir dir;
     atest::write_file(dir.file("tiny.xml"), atest::tiny_pmxml());
     atest::write_file(dir.file("link.stl"),

@@ -60,7 +60,7 @@ std::vector<atest::FindingCopy> findings_of(const atest::Translation& t, mbx_fin
 
 }  // namespace
 
-TEST_CASE("mass plausibility: real exports' densities are as their XML says; only LEGS15's placeholder is named") {
+TEST_CASE("mass plausibility: real exports' densities are as their XML says, only LEGS15's placeholder is named") {
     const std::string data = atest::pmxml_data_dir();
     if (data.empty()) return;
     for (const char* file : {"ergocub/SIM_ERGOCUB_1-0.xml", "ironcub/IRONCUB-MK1_SIM_MODEL.xml",

@@ -156,7 +156,7 @@ TEST_CASE("pmxml: host view has world frames with their own units and WORLD axes
     CHECK(a.bodies[4].units.length_to_m == 0.001);
 }
 
-TEST_CASE("pmxml: multi-primitive joints keep their order; spherical ignores its axis") {
+TEST_CASE("pmxml: multi-primitive joints keep their order, spherical ignores its axis") {
     const std::string text = replace_once(
         atest::tiny_pmxml(),
         "<Primitive><name>\"revolute\"</name><nodeID>\"\"</nodeID><referenceFrame>\"WORLD\"</"

@@ -6,6 +6,9 @@
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>
 
+#include <cstdio>
+#include <string>
+
 #include "tests/common/skip.h"
 
 namespace mbx_test {
@@ -27,7 +30,14 @@ struct SkipListener : doctest::IReporter {
     void report_query(const doctest::QueryData&) override {}
     void test_run_start() override {}
     void test_run_end(const doctest::TestRunStats&) override {}
-    void test_case_start(const doctest::TestCaseData&) override { skip_thrown() = false; }
+    static int& started() {
+        static int n = 0;
+        return n;
+    }
+    void test_case_start(const doctest::TestCaseData&) override {
+        skip_thrown() = false;
+        ++started();
+    }
     void test_case_reenter(const doctest::TestCaseData&) override {}
     void test_case_end(const doctest::CurrentTestCaseStats& stats) override {
         if (!stats.testCaseSuccess && !(skip_thrown() && stats.numAssertsFailedCurrentTest == 0)) ++real_failures();
@@ -55,6 +65,14 @@ int main(int argc, char** argv) {
     doctest::Context context(argc, argv);
     const int status = context.run();
     if (context.shouldExit()) return status;
+    // A filter that matches no case ran nothing: that is not a pass.
+    bool filtered = false;
+    for (int k = 1; k < argc; ++k)
+        filtered = filtered || std::string(argv[k]).rfind("--test-case=", 0) == 0 || std::string(argv[k]).rfind("-tc=", 0) == 0;
+    if (filtered && mbx_test::SkipListener::started() == 0) {
+        std::fprintf(stderr, "no test case matches the filter: nothing ran\n");
+        return 3;
+    }
     if (mbx_test::SkipListener::real_failures() == 0 && !mbx_test::skip_reasons().empty()) return 77;
     return status;
 }

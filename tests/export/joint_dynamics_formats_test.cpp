@@ -133,7 +133,7 @@ TEST_CASE("joint dynamics: a drive's armature and back-EMF damping add to the jo
     CHECK(joint->dynamics->friction == 0.8);
 }
 
-TEST_CASE("joint dynamics: urdfdom reads damping, friction and the description's limits; spring and armature are notes") {
+TEST_CASE("joint dynamics: urdfdom reads damping, friction and the description's limits, spring and armature are notes") {
     auto t = xtest::translate(carriage_pendulum());
     const Mechanism& m = *t->mechanism;
     mbx_test::TempDir dir("joint_dynamics_urdf");

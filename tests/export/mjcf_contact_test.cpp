@@ -146,7 +146,7 @@ TEST_CASE("MJCF contact: MuJoCo rests a ball at mbx's m g / k and rebounds it as
     CHECK(std::abs(md->qvel[2]) < 1e-6);
 }
 
-TEST_CASE("MJCF contact: materials that differ by pair become <pair> elements; Modelica names the dropped shapes") {
+TEST_CASE("MJCF contact: materials that differ by pair become <pair> elements, Modelica names the dropped shapes") {
     auto t = xtest::translate(ball_assembly(1, 0.5));
     mbx_test::TempDir dir("mjcf_contact");
     mbx::ExportSettings settings = with_contact(*t,
@@ -185,7 +185,7 @@ TEST_CASE("MJCF contact: materials that differ by pair become <pair> elements; M
     CHECK(named);
 }
 
-TEST_CASE("MJCF contact: a box rests in MuJoCo at mbx's m g / (4 k); a hull, on MuJoCo's three mesh-plane points, deeper") {
+TEST_CASE("MJCF contact: a box rests in MuJoCo at mbx's m g / (4 k), a hull, on MuJoCo's three mesh-plane points, deeper") {
     // mbx's box and hull on a plane touch at every corner below it, each with
     // the material's k; MuJoCo's four box-plane contacts, with the solref
     // sized for the body's mass, come to the same depth. Its mesh-plane

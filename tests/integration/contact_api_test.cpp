@@ -202,7 +202,7 @@ TEST_CASE("contact API: a ball dropped on a Hunt-Crossley contact rebounds to e^
     }
 }
 
-TEST_CASE("contact API: shapes and materials added by the host; a ball rests at m g / k on a linear spring") {
+TEST_CASE("contact API: shapes and materials added by the host, a ball rests at m g / k on a linear spring") {
     const double mass = 1, radius = 0.05, k = 1e5;
     Run run = translate(free_part("ball", mass, radius + 2e-3));
     REQUIRE(run.status == MBX_OK);

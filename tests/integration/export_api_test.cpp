@@ -171,7 +171,7 @@ TEST_CASE("export api: what a format cannot express joins the findings once, how
     CHECK(std::string(api().finding_code_name(MBX_FINDING_EXPORT_LOOPS_AS_TREE)) == "export_loops_as_tree");
 }
 
-TEST_CASE("export api: mesh_format picks the meshes/ files; MJCF and URDF still get STL beside glTF") {
+TEST_CASE("export api: mesh_format picks the meshes/ files, MJCF and URDF still get STL beside glTF") {
     const Run r = translate_builtin("fourbar");
     REQUIRE(r.status == MBX_OK);
     for (const auto& [format, ext] : std::vector<std::pair<mbx_mesh_format, std::string>>{

@@ -60,7 +60,7 @@ struct Translated {
 
 }  // namespace
 
-TEST_CASE("host mass data: aluminium parts pass; one left at 1 g/mm^3 is named with 1e6 kg/m^3") {
+TEST_CASE("host mass data: aluminium parts pass, one left at 1 g/mm^3 is named with 1e6 kg/m^3") {
     double parts_kg = 0;
     mbx_stub::Assembly a = aluminium_fourbar(parts_kg);
     CHECK(findings(Translated(a).mech.get(), MBX_FINDING_IMPLAUSIBLE_DENSITY).empty());
@@ -91,7 +91,7 @@ TEST_CASE("host mass data: aluminium parts pass; one left at 1 g/mm^3 is named w
     CHECK(json.find("\"implausible_density\"") != std::string::npos);
 }
 
-TEST_CASE("host mass data: a stated assembly mass 50 % above the parts' sum is named; a version-3 table is not asked") {
+TEST_CASE("host mass data: a stated assembly mass 50 % above the parts' sum is named, a version-3 table is not asked") {
     double parts_kg = 0;
     mbx_stub::Assembly a = aluminium_fourbar(parts_kg);
     a.mass = 1.5 * parts_kg;

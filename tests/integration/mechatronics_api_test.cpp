@@ -675,7 +675,7 @@ TEST_CASE("mechatronics api: drives that do not fit the mechanism are refused na
     }
 }
 
-TEST_CASE("mechatronics api: spherical, cut and multi-primitive joints; prismatic joints need a ball screw") {
+TEST_CASE("mechatronics api: spherical, cut and multi-primitive joints, prismatic joints need a ball screw") {
     // joints_showcase (PMXML through the file adapter): prismatic, spherical,
     // a cylindrical chain (P z then R z) and a spatial loop.
     FileRun r = translate_sample("joints_showcase/joints_showcase.xml");
@@ -768,7 +768,7 @@ TEST_CASE("mechatronics api: spherical, cut and multi-primitive joints; prismati
     }
 }
 
-TEST_CASE("mechatronics api: a cut joint cannot be driven; one joint named twice is driven twice") {
+TEST_CASE("mechatronics api: a cut joint cannot be driven, one joint named twice is driven twice") {
     const Run r = translate_builtin("fourbar");
     REQUIRE(r.status == MBX_OK);
     mbx_context* ctx = r.context.get();
@@ -1281,7 +1281,7 @@ TEST_CASE("mechatronics api: a drive file with problems changes nothing and list
     CHECK(api().mechatronics_drive_count(mt.get()) == 0);
 }
 
-TEST_CASE("mechatronics api: a failing set_mechatronics attaches nothing and lists every problem; NULL detaches") {
+TEST_CASE("mechatronics api: a failing set_mechatronics attaches nothing and lists every problem, NULL detaches") {
     const Run r = translate_builtin("six_axis_arm");
     REQUIRE(r.status == MBX_OK);
     mbx_context* ctx = r.context.get();

@@ -212,7 +212,7 @@ TEST_CASE("sim API: joint dynamics set by the host damp the pendulum at b / (2 I
     CHECK(measured == mbx_test::relative(rate, 2e-3));  // peak sampling at 1 ms
 }
 
-TEST_CASE("sim API: ABI 7 joint dynamics (offset, asymmetric Coulomb) act as -offset and c+ / c-; ABI 6 callers keep the old law") {
+TEST_CASE("sim API: ABI 7 joint dynamics (offset, asymmetric Coulomb) act as -offset and c+ / c-, ABI 6 callers keep the old law") {
     // The hanging pendulum at rest at q = 0 feels no gravity torque: the
     // joint acceleration is the joint dynamics' effort over the pivot inertia.
     const Pendulum p;
@@ -277,7 +277,7 @@ TEST_CASE("sim API: ABI 7 joint dynamics (offset, asymmetric Coulomb) act as -of
     a.mechatronics_destroy(mech);
 }
 
-TEST_CASE("sim API: a run writes trajectory.csv and simulation.json; a failed one writes nothing") {
+TEST_CASE("sim API: a run writes trajectory.csv and simulation.json, a failed one writes nothing") {
     Run run = translate_builtin("fourbar");
     SimHandles s;
     make_sim(run, s);

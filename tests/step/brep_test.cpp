@@ -139,7 +139,7 @@ TEST_CASE("step brep: a faceted tetrahedron, a solid with a void (its shell turn
     CHECK((b.vertices[cone.bounds[0].vertex].point - Eigen::Vector3d(0, 0, 1)).norm() == 0);
 }
 
-TEST_CASE("step brep: a face whose loop names a missing edge is a problem naming it; the rest of the solid reads") {
+TEST_CASE("step brep: a face whose loop names a missing edge is a problem naming it, and the rest of the solid reads") {
     const File f = read_part21(
         wrap_brep("#10=CARTESIAN_POINT('',(0.,0.,0.));\n#11=VERTEX_POINT('',#10);\n#12=DIRECTION('',(1.,0.,0.));\n"
                   "#13=VECTOR('',#12,1.);\n#14=LINE('',#10,#13);\n#15=EDGE_CURVE('',#11,#11,#14,.T.);\n"
@@ -182,7 +182,8 @@ Oracle occt(const std::string& path) {
 #ifndef MBX_STEP_ORACLE
     throw mbx_test::SkipTest{"OpenCASCADE was not found when this build was configured (bash .ci/install-deps)"};
 #else
-    FILE* pipe = ::popen((std::string(MBX_STEP_ORACLE) + " '" + path + "'").c_str(), "r");
+    // (OpenCASCADE keeps allocations of its own to exit: no leak check on it in the sanitizer build)
+    FILE* pipe = ::popen(("ASAN_OPTIONS=detect_leaks=0 " + std::string(MBX_STEP_ORACLE) + " '" + path + "'").c_str(), "r");
     REQUIRE(pipe != nullptr);
     Oracle o;
     char line[1024];

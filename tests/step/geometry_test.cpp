@@ -122,7 +122,7 @@ TEST_CASE("step geometry: B-spline curves and surfaces, plain and rational, knot
     CHECK(x.problems[0].message.find("malformed B-spline curve") != std::string::npos);
 }
 
-TEST_CASE("step geometry: lines, circles, ellipses, edge curves through SURFACE_CURVE; what mbx cannot read is named") {
+TEST_CASE("step geometry: lines, circles, ellipses, edge curves through SURFACE_CURVE, what mbx cannot read is named") {
     Fixture x("#50=VECTOR('',#3,1.);\n#51=LINE('',#1,#50);\n#52=CIRCLE('',#10,8.);\n#53=ELLIPSE('',#10,8.,3.);\n"
               "#54=SURFACE_CURVE('',#52,(#60),.CURVE_3D.);\n#55=SEAM_CURVE('',#51,(#60,#60),.CURVE_3D.);\n"
               "#60=PCURVE('',#61,#62);\n#61=PLANE('',#10);\n#62=DEFINITIONAL_REPRESENTATION('',(),#63);\n#63=REPRESENTATION_CONTEXT('','');\n"

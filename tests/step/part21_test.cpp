@@ -165,7 +165,7 @@ TEST_CASE("part 21: strings with doubled quotes, backslashes and every encoding 
     CHECK(name(9) == "\xC3\xA9");
 }
 
-TEST_CASE("part 21: comments anywhere, CRLF line ends and lower-case keywords; lines counted through all of them") {
+TEST_CASE("part 21: comments anywhere, CRLF line ends and lower-case keywords, lines counted through all of them") {
     const std::string text =
         "ISO-10303-21;\r\nHEADER;/* a comment\r\n over two lines */\r\nFILE_DESCRIPTION((''),'2;1');\r\n"
         "FILE_NAME('','',(''),(''),'','','');\r\nFILE_SCHEMA(('CONFIG_CONTROL_DESIGN'));\r\nENDSEC;\r\nDATA;\r\n"

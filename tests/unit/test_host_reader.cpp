@@ -111,7 +111,7 @@ TEST_CASE("host reader converts units per quantity and resolves frames and axes 
     CHECK(findings.empty());
 }
 
-TEST_CASE("rounded rotations are repaired; a warning only above the rounding level") {
+TEST_CASE("rounded rotations are repaired, a warning only above the rounding level") {
     mbx_stub::Assembly a = small_assembly();
     a.bodies[1].pose.rotation[0] += 2e-7;  // six-digit rounding: silent
     {

@@ -126,7 +126,7 @@ TEST_CASE("density: the range bounds, osmium passes, too light and too heavy are
     REQUIRE(found(*heavy, MBX_FINDING_IMPLAUSIBLE_DENSITY).size() == 1);
 }
 
-TEST_CASE("density: no volume (an older host) or no mass means no check; a negative volume is refused") {
+TEST_CASE("density: no volume (an older host) or no mass means no check, a negative volume is refused") {
     CHECK(found(*translate(block_assembly(kMillimetreKilogram, 125000, 0, 50)), MBX_FINDING_IMPLAUSIBLE_DENSITY)
               .empty());
     CHECK(found(*translate(block_assembly(kMillimetreKilogram, 0, 125000, 50)), MBX_FINDING_IMPLAUSIBLE_DENSITY)

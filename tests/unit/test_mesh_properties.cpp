@@ -44,7 +44,7 @@ TEST_CASE("box: volume, centroid and inertia match the analytic solid") {
     CHECK(std::abs(p.inertia_per_density(0, 1)) < 1e-15);
 }
 
-TEST_CASE("inverted normals give the same solid; an open mesh is detected") {
+TEST_CASE("inverted normals give the same solid, an open mesh is detected") {
     std::vector<Vec3> v;
     std::vector<uint32_t> t;
     box(Vec3::Zero(), Vec3(1, 1, 1), v, t);

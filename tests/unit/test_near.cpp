@@ -44,7 +44,7 @@ TEST_CASE("near: checks that could never fail, or never pass, are refused") {
     CHECK_FALSE(0.0 == relative_to(0.0, 0.0, 1e-6));
 }
 
-TEST_CASE("near: relative_to judges a component on its vector's scale; within on its stated tolerance") {
+TEST_CASE("near: relative_to judges a component on its vector's scale, within on its stated tolerance") {
     CHECK(1e-13 == relative_to(0.0, 1.0, 1e-12));
     CHECK_FALSE(2e-12 == relative_to(0.0, 1.0, 1e-12));
     CHECK_FALSE(0.0 == relative_to(0.3, 1.0, 0.1));

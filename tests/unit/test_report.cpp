@@ -289,7 +289,7 @@ TEST_CASE("report json: joints, tree, loops and findings") {
     CHECK(j["findings"][1]["subject"]["kind"] == "loop");
 }
 
-TEST_CASE("report json: a non-planar loop has a null normal; NaN masses become null") {
+TEST_CASE("report json: a non-planar loop has a null normal, NaN masses become null") {
     mbx::Mechanism m = four_part_mechanism();
     m.loops[0].planar = false;
     m.bodies[2].mass = std::nan("");

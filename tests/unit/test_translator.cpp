@@ -95,7 +95,7 @@ TEST_CASE("the same input gives the same mechanism") {
     }
 }
 
-TEST_CASE("a multi-primitive chain becomes massless joint nodes; a cut chain cuts at J_1") {
+TEST_CASE("a multi-primitive chain becomes massless joint nodes, a cut chain cuts at J_1") {
     test::AssemblyBuilder b;
     int ground = b.part("ground", 1, Vec3::Zero(), MBX_BODY_GROUND);
     int slider = b.part("slider", 1, Vec3(0, 0, 1));
@@ -127,7 +127,7 @@ TEST_CASE("a multi-primitive chain becomes massless joint nodes; a cut chain cut
     CHECK(m->dof == 2);  // the coaxial second cylinder removes nothing
 }
 
-TEST_CASE("helpers attached to nothing are dropped; unconnected and floating bodies are named") {
+TEST_CASE("helpers attached to nothing are dropped, unconnected and floating bodies are named") {
     test::AssemblyBuilder b;
     b.part("ground", 1, Vec3::Zero(), MBX_BODY_GROUND);
     b.part("lonely_root", 0, Vec3(1, 0, 0), MBX_BODY_HELPER);
