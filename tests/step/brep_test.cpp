@@ -11,6 +11,7 @@
 #include "host_adapters/step/brep.h"
 #include "host_adapters/step/part21.h"
 #include "tests/common/shared_data.h"
+#include "tests/step/step_test_support.h"
 
 namespace MBX_UNITY_ID {
 
@@ -87,11 +88,10 @@ namespace MBX_UNITY_ID {
 namespace {
 
 std::string wrap_brep(const std::string& data) {
-    return "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('','',(''),(''),'','','');\n"
-           "FILE_SCHEMA(('CONFIG_CONTROL_DESIGN'));\nENDSEC;\nDATA;\n"
-           "#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n#2=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
-           "#3=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#1,#2))REPRESENTATION_CONTEXT('',''));\n" +
-           data + "ENDSEC;\nEND-ISO-10303-21;\n";
+    return step_test::wrap("#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n#2=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
+                           "#3=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#1,#2))REPRESENTATION_CONTEXT('',''));\n" +
+                               data,
+                           "CONFIG_CONTROL_DESIGN");
 }
 
 }  // namespace
@@ -167,37 +167,8 @@ namespace MBX_UNITY_ID {
 
 namespace {
 
-struct OracleSolid {
-    int faces = 0, edges = 0, vertices = 0;
-    double volume = 0;
-};
-
-struct Oracle {
-    std::vector<OracleSolid> solids;
-    int faces = 0, edges = 0, vertices = 0;  // distinct definitions
-};
-
-// OpenCASCADE's reading of the file (tests/step/occt_oracle.cpp).
-Oracle occt(const std::string& path) {
-#ifndef MBX_STEP_ORACLE
-    throw mbx_test::SkipTest{"OpenCASCADE was not found when this build was configured (bash .ci/install-deps)"};
-#else
-    // (OpenCASCADE keeps allocations of its own to exit: no leak check on it in the sanitizer build)
-    FILE* pipe = ::popen(("ASAN_OPTIONS=detect_leaks=0 " + std::string(MBX_STEP_ORACLE) + " '" + path + "'").c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    Oracle o;
-    char line[1024];
-    while (std::fgets(line, sizeof line, pipe)) {
-        OracleSolid s;
-        if (std::sscanf(line, "solid %d %d %d %lf", &s.faces, &s.edges, &s.vertices, &s.volume) == 4)
-            o.solids.push_back(s);
-        else
-            std::sscanf(line, "distinct %d %d %d", &o.faces, &o.edges, &o.vertices);
-    }
-    REQUIRE(::pclose(pipe) == 0);
-    return o;
-#endif
-}
+using step_test::Oracle;
+using step_test::occt;
 
 }  // namespace
 

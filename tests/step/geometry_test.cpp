@@ -12,6 +12,7 @@
 #include "host_adapters/step/units.h"
 #include "tests/common/near.h"
 #include "tests/common/shared_data.h"
+#include "tests/step/step_test_support.h"
 
 namespace MBX_UNITY_ID {
 
@@ -19,10 +20,7 @@ using namespace mbx_step;
 
 namespace {
 
-std::string wrap(const std::string& data) {
-    return "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('','',(''),(''),'','','');\n"
-           "FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n" + data + "ENDSEC;\nEND-ISO-10303-21;\n";
-}
+using step_test::wrap;
 
 // Entities in millimetres (and degrees where `degrees`), a frame #10 at
 // (10, 20, 30) mm with axis z and a ref direction that leans into the axis.

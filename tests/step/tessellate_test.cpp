@@ -11,6 +11,7 @@
 #include "host_adapters/step/tessellate.h"
 #include "tests/common/near.h"
 #include "tests/common/shared_data.h"
+#include "tests/step/step_test_support.h"
 
 namespace MBX_UNITY_ID {
 
@@ -18,37 +19,6 @@ using namespace mbx_step;
 
 namespace {
 
-struct Exact {
-    double volume;
-    Eigen::Vector3d centroid;
-    Eigen::Matrix3d inertia;
-};
-
-std::vector<Exact> occt_mass(const std::string& path) {
-#ifndef MBX_STEP_ORACLE
-    throw mbx_test::SkipTest{"OpenCASCADE was not found when this build was configured (bash .ci/install-deps)"};
-#else
-    // (OpenCASCADE keeps allocations of its own to exit: no leak check on it in the sanitizer build)
-    FILE* pipe = ::popen(("ASAN_OPTIONS=detect_leaks=0 " + std::string(MBX_STEP_ORACLE) + " '" + path + "'").c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    std::vector<Exact> out;
-    char line[2048];
-    while (std::fgets(line, sizeof line, pipe)) {
-        int f, e, v;
-        double x[10];
-        if (std::sscanf(line, "solid %d %d %d %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &f, &e, &v, &x[0], &x[1], &x[2],
-                        &x[3], &x[4], &x[5], &x[6], &x[7], &x[8], &x[9]) == 13) {
-            Exact m;
-            m.volume = x[0];
-            m.centroid = Eigen::Vector3d(x[1], x[2], x[3]);
-            m.inertia << x[4], -x[7], -x[8], -x[7], x[5], -x[9], -x[8], -x[9], x[6];
-            out.push_back(m);
-        }
-    }
-    REQUIRE(::pclose(pipe) == 0);
-    return out;
-#endif
-}
 
 }  // namespace
 
@@ -62,7 +32,7 @@ TEST_CASE("step tessellation: the DFKI levers meshed closed at the default toler
         CAPTURE(path);
         const Brep b = read_breps(read_part21_file(path));
         REQUIRE(b.solids.size() == 1);
-        const std::vector<Exact> exact = occt_mass(path);
+        const std::vector<step_test::OracleSolid> exact = step_test::occt(path).solids;
         REQUIRE(exact.size() == 1);
         const Tolerance tol;  // the defaults: 1e-6 m, 1 degree
         const std::vector<SolidMesh> meshes = tessellate(b, tol);

@@ -9,6 +9,7 @@
 #include "host_adapters/step/units.h"
 #include "tests/common/near.h"
 #include "tests/common/shared_data.h"
+#include "tests/step/step_test_support.h"
 
 namespace MBX_UNITY_ID {
 
@@ -16,10 +17,7 @@ using namespace mbx_step;
 
 namespace {
 
-std::string wrap(const std::string& data) {
-    return "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('','',(''),(''),'','','');\n"
-           "FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\n" + data + "ENDSEC;\nEND-ISO-10303-21;\n";
-}
+using step_test::wrap;
 
 // A context (#100) whose units are `units` (instances #1.. given in `data`).
 ContextUnits units_of(const std::string& data, const std::string& units, std::vector<Problem>& problems) {
