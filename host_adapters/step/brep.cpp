@@ -7,7 +7,6 @@ namespace mbx_step {
 
 namespace {
 
-uint32_t ref(const Value& v) { return v.kind == Kind::Reference ? v.a : kUnresolved; }
 bool flag(const File& f, const Value& v) { return !(v.kind == Kind::Enumeration && f.text(v) == "F"); }
 
 class BrepReader {
@@ -41,6 +40,7 @@ public:
             for (size_t t = 0; t < solid_types_.size(); ++t)
                 if (r.type == solid_types_[t] && solid_types_[t] != File::kNoType) solid(k, r);
         }
+        out_.path = f_.path;
         out_.problems.insert(out_.problems.begin(), f_.problems.begin(), f_.problems.end());
         out_.problems.insert(out_.problems.end(), problems_.begin(), problems_.end());
         return std::move(out_);
@@ -154,6 +154,8 @@ private:
         }
         Face fc;
         fc.entity = k;
+        fc.id = f_.instances[k].id;
+        fc.line = int(f_.instances[k].line);
         const Value& bounds = f_.attribute(*r, 1);
         for (uint32_t i = 0; i < uint32_t(bounds.count); ++i) {
             Loop l;

@@ -44,7 +44,9 @@ struct Loop {
 };
 
 struct Face {
-    uint32_t entity = kUnresolved;
+    uint32_t entity = kUnresolved;  // instance index; id and line as written, for findings
+    uint64_t id = 0;
+    int line = 0;
     Surface surface;          // a faceted face's plane is its polygon's
     bool same_sense = true;   // the face's normal is the surface's
     std::vector<Loop> bounds;
@@ -66,6 +68,7 @@ struct Solid {
 };
 
 struct Brep {
+    std::string path;  // the file read, for findings
     std::vector<Vertex> vertices;
     std::vector<Edge> edges;
     std::vector<Face> faces;

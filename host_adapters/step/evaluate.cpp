@@ -112,11 +112,22 @@ void curve_with_derivative(const Curve& c, double t, Eigen::Vector3d& p, Eigen::
     d = Eigen::Vector3d::Constant(NAN);
 }
 
-std::pair<double, double> spline_range(const BSpline& s, bool v = false) {
+}  // namespace
+
+std::pair<double, double> spline_range(const BSpline& s, bool v) {
     const std::vector<double>& U = v ? s.knots_v : s.knots_u;
     const int p = v ? s.degree_v : s.degree_u;
     const int n = (v ? s.columns : (s.rows == 1 ? s.columns : s.rows)) - 1;
     return {U[size_t(p)], U[size_t(n) + 1]};
+}
+
+namespace {
+
+// A periodic direction's parameter brought into the knot range.
+double wrap(double t, double period, double start) {
+    if (!(period > 0)) return t;
+    const double r = std::fmod(t - start, period);
+    return start + (r < 0 ? r + period : r);
 }
 
 }  // namespace
@@ -133,6 +144,8 @@ namespace {
 // Homogeneous sums of a surface at (u, v), with their derivatives.
 void surface_sums(const BSpline& s, double u, double v, Eigen::Vector3d& A, double& w, Eigen::Vector3d* Au,
                   double* wu, Eigen::Vector3d* Av, double* wv) {
+    if (s.period_u > 0) u = wrap(u, s.period_u, spline_range(s, false).first);
+    if (s.period_v > 0) v = wrap(v, s.period_v, spline_range(s, true).first);
     const int pu = s.degree_u, pv = s.degree_v;
     const int su = find_span(s.knots_u, pu, s.rows - 1, u), sv = find_span(s.knots_v, pv, s.columns - 1, v);
     double Nu[33], dNu[33], Nv[33], dNv[33];
@@ -163,6 +176,29 @@ Eigen::Vector3d spline_point(const BSpline& s, double u, double v) {
     double w;
     surface_sums(s, u, v, A, w, nullptr, nullptr, nullptr, nullptr);
     return A / w;
+}
+
+void prepare_surface(BSpline& s) {
+    s.period_u = s.period_v = 0;
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : s.points) box.extend(p);
+    s.extent = s.points.empty() ? 0.0 : box.diagonal().norm();
+    if (s.points.empty() || s.columns < 2 || s.rows < 2) return;
+    const double gap = 1e-7 * std::max(s.extent, 1e-12);
+    const double u0 = spline_range(s, false).first, u1 = spline_range(s, false).second;
+    const double v0 = spline_range(s, true).first, v1 = spline_range(s, true).second;
+    auto meets = [&](bool along_v) {
+        for (int k = 0; k <= 8; ++k) {
+            const double t = along_v ? u0 + (u1 - u0) * k / 8 : v0 + (v1 - v0) * k / 8;
+            const Eigen::Vector3d a = along_v ? spline_point(s, t, v0) : spline_point(s, u0, t);
+            const Eigen::Vector3d b = along_v ? spline_point(s, t, v1) : spline_point(s, u1, t);
+            if (!((a - b).norm() <= gap)) return false;
+        }
+        return true;
+    };
+    const bool periodic_u = s.closed_u && meets(false), periodic_v = s.closed_v && meets(true);
+    if (periodic_u) s.period_u = u1 - u0;
+    if (periodic_v) s.period_v = v1 - v0;
 }
 
 void spline_derivatives(const BSpline& s, double u, double v, Eigen::Vector3d& du, Eigen::Vector3d& dv) {
@@ -360,6 +396,10 @@ Eigen::Vector2d surface_periods(const Surface& s) {
             return {kTwoPi, 0};
         case Surface::Kind::Torus:
             return {kTwoPi, kTwoPi};
+        case Surface::Kind::BSpline:
+            return {s.spline.period_u, s.spline.period_v};
+        case Surface::Kind::Extrusion:
+            return {curve_period(s.swept[0]), 0};
         default:
             return {0, 0};
     }
@@ -448,8 +488,8 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
                     if (!(std::abs(J.determinant()) > 0)) break;
                     const Vector2d step = J.ldlt().solve(g);
                     t -= step;
-                    t.x() = std::clamp(t.x(), u0, u1);
-                    t.y() = std::clamp(t.y(), v0, v1);
+                    if (!(b.period_u > 0)) t.x() = std::clamp(t.x(), u0, u1);
+                    if (!(b.period_v > 0)) t.y() = std::clamp(t.y(), v0, v1);
                     if (step.norm() < 1e-15 * std::max(1.0, std::max(u1 - u0, v1 - v0))) break;
                 }
                 return t;
@@ -458,13 +498,22 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
             // close); the grid search only when that does not land on q.
             if (near) {
                 const Vector2d t = newton(*near);
-                const double miss = (spline_point(b, t.x(), t.y()) - q).norm();
-                const double size = (spline_point(b, u0, v0) - spline_point(b, u1, v1)).norm() +
-                                    (spline_point(b, u0, v1) - spline_point(b, u1, v0)).norm();
-                // (edge points lie only within the exporter's tolerance of the
-                // surface, so Newton's foot point a little off q is the answer)
-                if (miss <= 1e-5 * std::max(size, 1e-12)) return t;
+                Eigen::Vector3d du, dv;
+                spline_derivatives(b, t.x(), t.y(), du, dv);
+                const Eigen::Vector3d r = spline_point(b, t.x(), t.y()) - q;
+                const double miss = r.norm(), size = std::max(b.extent, 1e-12);
+                // Edge points lie only within the exporter's tolerance of the
+                // surface, so Newton's foot point a little off q is the answer:
+                // where it lands on q, or q lies off the surface along its
+                // normal there (a true foot point) and not far.
+                const bool foot = std::abs(du.dot(r)) <= 1e-6 * du.norm() * miss + 1e-300 &&
+                                  std::abs(dv.dot(r)) <= 1e-6 * dv.norm() * miss + 1e-300;
+                if (miss <= 1e-5 * size || (foot && miss <= 1e-3 * size)) return t;
             }
+            auto near_periods = [&](Vector2d t) {
+                if (near) t = {nearest_period(t.x(), b.period_u, near->x()), nearest_period(t.y(), b.period_v, near->y())};
+                return t;
+            };
             const int nu = std::max(8, 4 * b.rows), nv = std::max(8, 4 * b.columns);
             double best = INFINITY;
             for (int i = 0; i <= nu; ++i)
@@ -473,7 +522,7 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
                     const double dist = (spline_point(b, t.x(), t.y()) - q).squaredNorm();
                     if (dist < best) best = dist, uv = t;
                 }
-            return newton(uv);
+            return near_periods(newton(uv));
         }
         case Surface::Kind::Unsupported:
             return uv;

@@ -18,16 +18,35 @@ namespace mbx_step {
 constexpr double kTwoPi = 2 * 3.14159265358979323846;
 
 // The density of a mesh: no chord farther than `chord` from its curve or
-// surface, no segment of an edge turning more than `angle`. The defaults give
-// volumes within 1e-4 of the exact ones on the real parts of the tests.
+// surface, no segment of an edge turning more than `angle`. A chord of 0
+// means `relative_chord` of each solid's size (its bounding box's diagonal),
+// so that a screw and an engine block get the same relative accuracy. The
+// defaults give volumes within 1e-4 of the exact ones on the real parts of
+// the tests.
 struct Tolerance {
-    double chord = 1e-6;          // metres
-    double angle = kTwoPi / 360;  // radians (1 degree)
+    double chord = 0;               // metres; 0: relative to the solid's size
+    double relative_chord = 1e-5;   // of the solid's size, when chord is 0
+    double angle = kTwoPi / 360;    // radians (1 degree)
+
+    // A fixed chord in metres and an angle in radians.
+    static Tolerance absolute(double chord_m, double angle_rad) {
+        Tolerance t;
+        t.chord = chord_m;
+        t.angle = angle_rad;
+        return t;
+    }
 };
 
 // B-splines (rational ones through their weights), at parameter u (and v).
 Eigen::Vector3d spline_point(const BSpline& s, double u);
 Eigen::Vector3d spline_point(const BSpline& s, double u, double v);
+// The knot range of a surface along u (or v).
+std::pair<double, double> spline_range(const BSpline& s, bool v = false);
+// Sets a surface's extent, and its periods where the file calls it closed
+// and its two ends meet (to 1e-7 of its extent): then it is evaluated with u
+// (v) taken modulo its knot range, so that a face wrapping round it unrolls
+// as on a cylinder.
+void prepare_surface(BSpline& s);
 // The surface's first derivatives along u and v at (u, v).
 void spline_derivatives(const BSpline& s, double u, double v, Eigen::Vector3d& du, Eigen::Vector3d& dv);
 

@@ -1,5 +1,7 @@
 #include "host_adapters/step/geometry.h"
 
+#include "host_adapters/step/evaluate.h"  // (a closed B-spline surface is checked by evaluating it)
+
 #include <cmath>
 
 namespace mbx_step {
@@ -410,6 +412,7 @@ Surface GeometryReader::surface(uint32_t entity) {
     }
     if (f_.record(in, types_[kBSplineSurfaceWithKnots]) || f_.record(in, types_[kBSplineSurface])) {
         s.kind = bspline(entity, true, s.spline) ? Surface::Kind::BSpline : Surface::Kind::Unsupported;
+        if (s.kind == Surface::Kind::BSpline) prepare_surface(s.spline);
         if (in.record_count > 1) s.type = "B_SPLINE_SURFACE_WITH_KNOTS";
         return s;
     }

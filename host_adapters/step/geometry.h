@@ -32,6 +32,10 @@ struct BSpline {
     std::vector<double> weights;             // row-major, or empty
     std::vector<double> knots_u, knots_v;    // expanded
     bool closed_u = false, closed_v = false;
+    // A surface closed in a direction (the file says so and its two ends
+    // meet) is periodic there with its knot range as the period; 0 otherwise.
+    double period_u = 0, period_v = 0;
+    double extent = 0;  // a surface's control points' bounding-box diagonal
 };
 
 struct Curve {

@@ -146,6 +146,9 @@ private:
     std::vector<std::pair<uint64_t, uint32_t>> by_id_;  // sorted (id, index)
 };
 
+// The instance a reference value points to, kUnresolved for any other value.
+inline uint32_t ref(const Value& v) { return v.kind == Kind::Reference ? v.a : kUnresolved; }
+
 // Reads the text of a Part 21 file; `path` names it in errors. Throws
 // ReadError on text that is not Part 21 (with the line and instance).
 File read_part21(std::string_view text, const std::string& path, const ReadLimits& limits = {});

@@ -60,6 +60,14 @@ std::vector<UvPoint> bridge_holes(std::vector<UvPoint> outer, std::vector<std::v
         size_t chosen = order.empty() ? 0 : order[0];
         for (size_t c : order) {
             const Vector2d P = outer[c].uv;
+            // The bridge must leave P into the polygon: where P is a point met
+            // twice (an earlier bridge's end), only one of its copies faces M.
+            const Vector2d to_prev = outer[(c + outer.size() - 1) % outer.size()].uv - P,
+                           to_next = outer[(c + 1) % outer.size()].uv - P, d = M - P;
+            const bool convex = cross2(to_next, to_prev) >= 0;
+            const bool inside = convex ? (cross2(to_next, d) > 0 && cross2(d, to_prev) > 0)
+                                       : (cross2(to_next, d) > 0 || cross2(d, to_prev) > 0);
+            if (!inside) continue;
             bool blocked = false;
             auto check = [&](const std::vector<UvPoint>& poly) {
                 for (size_t k = 0; k < poly.size() && !blocked; ++k)
@@ -163,7 +171,8 @@ bool ear_clip(const std::vector<UvPoint>& poly, std::vector<std::array<uint32_t,
 
 class SolidTessellator {
 public:
-    SolidTessellator(const Brep& b, const Tolerance& tol, SolidMesh& out) : b_(b), tol_(tol), out_(out) {}
+    SolidTessellator(const Brep& b, const Solid& solid, const Tolerance& tol, SolidMesh& out)
+        : b_(b), solid_(solid), tol_(tol), out_(out) {}
 
     void face(const Face& f, bool reversed) {
         const Surface& s = f.surface;
@@ -195,7 +204,9 @@ public:
             if (winds_u || winds_v) {
                 wrapping.push_back(uv);  // keeps its closing point: the seam joins the two copies
             } else {
-                uv.pop_back();
+                // The closing point is the first again, unless the loop starts
+                // at a pole it left with another u (then the pole row closes it).
+                if ((uv.back().uv - uv.front().uv).norm() <= 1e-12 * (1 + uv.front().uv.norm())) uv.pop_back();
                 closed_loops.push_back(uv);
             }
         }
@@ -215,10 +226,23 @@ public:
                 const Vector2d other_turn = other.back().uv - other.front().uv;
                 if (other_turn.dot(shift) > 0) std::reverse(other.begin(), other.end());
                 other.pop_back();
+                // (distances modulo the periods: the other loop was unrolled
+                // from its own first point, maybe a period or more away)
+                auto apart = [&](const Vector2d& p) {
+                    Vector2d d = p - a.back().uv;
+                    for (int k = 0; k < 2; ++k)
+                        if (periods[k] > 0) d[k] = std::remainder(d[k], periods[k]);
+                    return d.squaredNorm();
+                };
                 size_t start = 0;
                 for (size_t k = 1; k < other.size(); ++k)
-                    if ((other[k].uv - a.back().uv).norm() < (other[start].uv - a.back().uv).norm()) start = k;
+                    if (apart(other[k].uv) < apart(other[start].uv)) start = k;
                 std::rotate(other.begin(), other.begin() + long(start), other.end());
+                // (unrolled again from the new start: where it began there is a period's jump)
+                for (size_t k = 1; k < other.size(); ++k)
+                    for (int d = 0; d < 2; ++d)
+                        if (periods[d] > 0)
+                            other[k].uv[d] += periods[d] * std::round((other[k - 1].uv[d] - other[k].uv[d]) / periods[d]);
                 // Bring it next to the first loop's end (whole periods only).
                 Vector2d offset = a.back().uv - other[0].uv;
                 for (int d = 0; d < 2; ++d)
@@ -241,7 +265,7 @@ public:
                     fail(f, "a bound winds round the surface and nothing closes it");
                     return;
                 }
-                const uint32_t apex = add_point(surface_point(s, a.front().uv.x(), v_pole));
+                const uint32_t apex = pole_point(surface_point(s, a.front().uv.x(), v_pole));
                 band.push_back({Vector2d(a.back().uv.x(), v_pole), apex});
                 band.push_back({Vector2d(a.front().uv.x(), v_pole), apex});
             }
@@ -268,8 +292,11 @@ public:
                 for (UvPoint& p : h) p.uv += offset;
             }
         }
-        // Counter-clockwise outer, clockwise holes; the face's side from the
-        // surface normal, the face's sense and the shell's.
+        // Counter-clockwise outer, clockwise holes. The face's side is the
+        // one its bounds say (the face lies left of its outer bound seen from
+        // its outside): where a file's same-sense flag disagrees with its
+        // bounds, the bounds keep the shell consistent (as OpenCASCADE reads
+        // it), since each edge is walked once each way by its two faces.
         const bool flipped_uv = signed_area(outer) < 0;
         if (flipped_uv) std::reverse(outer.begin(), outer.end());
         for (auto& h : holes)
@@ -288,6 +315,7 @@ public:
         // Nodes: a mesh point with one of its uvs (a seam or pole point has
         // several, one per side); the polygon's positions become nodes.
         nodes_.clear();
+        on_surface_.clear();
         std::map<std::pair<uint32_t, std::pair<double, double>>, uint32_t> node_of;
         std::vector<uint32_t> node_at(polygon.size());
         for (size_t k = 0; k < polygon.size(); ++k) {
@@ -296,6 +324,7 @@ public:
             if (it == node_of.end()) {
                 it = node_of.emplace(key, uint32_t(nodes_.size())).first;
                 nodes_.push_back(polygon[k]);
+                on_surface_.push_back(surface_point(s, polygon[k].uv.x() / scale_.x(), polygon[k].uv.y() / scale_.y()));
             }
             node_at[k] = it->second;
         }
@@ -304,7 +333,8 @@ public:
         std::vector<std::pair<uint32_t, uint32_t>> boundary;
         for (size_t k = 0; k < polygon.size(); ++k) boundary.emplace_back(node_at[k], node_at[(k + 1) % polygon.size()]);
         refine(s, tris, boundary);
-        const bool flip = !f.same_sense != reversed;
+        const bool flip = flipped_uv != reversed;
+        if (flipped_uv == f.same_sense) ++out_.sense_disagreements;
         for (const auto& tn : tris) {
             std::array<uint32_t, 3> t = {nodes_[tn[0]].point, nodes_[tn[1]].point, nodes_[tn[2]].point};
             const Vector3d &p0 = out_.mesh.points[t[0]], &p1 = out_.mesh.points[t[1]], &p2 = out_.mesh.points[t[2]];
@@ -324,7 +354,26 @@ public:
 private:
     void fail(const Face& f, const std::string& why) {
         ++out_.faces_failed;
-        out_.problems.push_back({0, f.entity, "face not meshed: " + why});
+        out_.problems.push_back({f.line, f.id, "face not meshed: " + why});
+    }
+
+    // A pole the face's bounds do not name may still be a vertex of the
+    // solid (a cone's apex where an edge of another face ends): then it is
+    // that vertex's point, so that the faces meeting there share it.
+    uint32_t pole_point(const Vector3d& p) {
+        uint32_t best = kUnresolved;
+        double nearest = tol_.chord;
+        for (const Shell& sh : solid_.shells)
+            for (uint32_t fi : sh.faces)
+                for (const Loop& l : b_.faces[fi].bounds) {
+                    auto consider = [&](uint32_t v) {
+                        const double d = (b_.vertices[v].point - p).norm();
+                        if (d <= nearest) nearest = d, best = v;
+                    };
+                    if (l.kind == Loop::Kind::Vertex) consider(l.vertex);
+                    for (const OrientedEdge& oe : l.edges) consider(b_.edges[oe.edge].start), consider(b_.edges[oe.edge].end);
+                }
+        return best == kUnresolved ? add_point(p) : point_of_vertex(best);
     }
 
     uint32_t point_of_vertex(uint32_t v) {
@@ -372,31 +421,66 @@ private:
         return poly_points_.back();
     }
 
-    // Along the loop, each point's uv next to the previous one's; a point at a
-    // pole (where u says nothing) takes its neighbour's u.
-    std::vector<UvPoint> unroll(const Surface& s, const std::vector<uint32_t>& pts) {
-        std::vector<UvPoint> out;
+    // Along the loop, each point's uv next to the previous one's. A point at
+    // a pole (where u says nothing) is the pole row's two ends: the u it
+    // arrives with and the u it leaves with (one copy where they agree), so
+    // that the generator lines to a cone's apex stay straight in uv.
+    std::vector<UvPoint> unroll(const Surface& s, std::vector<uint32_t> pts) {
+        // A pole's u says nothing, so unrolling through it may land the next
+        // point a half turn off: a closed loop through a pole is unrolled from
+        // the point after it, so that the pole comes last.
+        const bool has_poles = s.kind == Surface::Kind::Cone || s.kind == Surface::Kind::Sphere;
+        if (has_poles && pts.size() > 2 && pts.front() == pts.back())
+            for (size_t k = 0; k + 1 < pts.size(); ++k)
+                if (at_pole(s, surface_parameters(s, out_.mesh.points[pts[k]]))) {
+                    std::vector<uint32_t> turned(pts.begin() + long(k) + 1, pts.end() - 1);
+                    turned.insert(turned.end(), pts.begin(), pts.begin() + long(k) + 1);
+                    turned.push_back(turned.front());
+                    pts = std::move(turned);
+                    break;
+                }
+        std::vector<UvPoint> raw;
         for (size_t k = 0; k < pts.size(); ++k) {
             const Vector3d& p = out_.mesh.points[pts[k]];
-            Vector2d uv = out.empty() ? surface_parameters(s, p) : surface_parameters(s, p, &out.back().uv);
-            if (at_pole(s, uv) && !out.empty()) uv.x() = out.back().uv.x();
-            out.push_back({uv, pts[k]});
+            raw.push_back({raw.empty() ? surface_parameters(s, p) : surface_parameters(s, p, &raw.back().uv), pts[k]});
         }
-        // A pole first in the loop takes the u of the point after it.
-        if (out.size() > 1 && at_pole(s, out[0].uv)) out[0].uv.x() = out[1].uv.x();
+        std::vector<char> pole(raw.size());
+        for (size_t k = 0; k < raw.size(); ++k) pole[k] = at_pole(s, raw[k].uv);
+        // The closing point after the pole is the first point: its own uv
+        // (unrolled from the pole's it could land a half turn off).
+        if (raw.size() > 2 && pts.front() == pts.back() && pole[raw.size() - 2]) raw.back().uv = raw.front().uv;
+        // The u of the nearest point before (or after) k that is not a pole.
+        auto u_near = [&](size_t k, int step) {
+            for (long j = long(k) + step; j >= 0 && j < long(raw.size()); j += step)
+                if (!pole[size_t(j)]) return raw[size_t(j)].uv.x();
+            return raw[k].uv.x();
+        };
+        std::vector<UvPoint> out;
+        for (size_t k = 0; k < raw.size(); ++k) {
+            if (!pole[k]) {
+                out.push_back(raw[k]);
+                continue;
+            }
+            const double in = k == 0 ? u_near(k, +1) : u_near(k, -1);
+            const double on = k + 1 == raw.size() ? in : u_near(k, +1);
+            out.push_back({Vector2d(in, raw[k].uv.y()), raw[k].point});
+            if (std::abs(on - in) > 1e-12 * (1 + std::abs(in))) out.push_back({Vector2d(on, raw[k].uv.y()), raw[k].point});
+        }
         return out;
     }
 
     static bool at_pole(const Surface& s, const Vector2d& uv) {
         switch (s.kind) {
             case Surface::Kind::Cone:
-                return std::abs(s.radius + uv.y() * std::tan(s.semi_angle)) < 1e-9 * std::max(s.radius, 1e-3);
+                return std::abs(s.radius + uv.y() * std::tan(s.semi_angle)) < 1e-7 * std::max(s.radius, 1e-3);
             case Surface::Kind::Sphere:
-                return std::abs(std::abs(uv.y()) - M_PI / 2) < 1e-9;
+                return std::abs(std::abs(uv.y()) - M_PI / 2) < 1e-8;
             default:
                 return false;
         }
     }
+
+    bool pole_node(const Surface& s, const UvPoint& n) const { return at_pole(s, n.uv.cwiseQuotient(scale_)); }
 
     // The v of the pole a once-wrapping loop leaves uncovered (sphere caps,
     // cones), or NaN.
@@ -431,6 +515,7 @@ private:
     struct Adjacent {
         std::vector<std::array<uint32_t, 3>> tri;
         std::vector<std::array<int32_t, 3>> adj;
+        std::vector<char> touched;  // made or changed since the refinement's last look
     };
 
     static Adjacent connect(const std::vector<std::array<uint32_t, 3>>& tris,
@@ -460,6 +545,11 @@ private:
         for (int k = 0; k < 3; ++k)
             if (m.tri[size_t(t)][size_t(k)] == a && m.tri[size_t(t)][size_t((k + 1) % 3)] == b) return k;
         return -1;
+    }
+
+    static void mark(Adjacent& m, int32_t t) {
+        if (m.touched.size() <= size_t(t)) m.touched.resize(size_t(t) + 1, 0);
+        m.touched[size_t(t)] = 1;
     }
 
     static void repoint(Adjacent& m, int32_t t, int32_t from, int32_t to) {
@@ -505,6 +595,7 @@ private:
         m.adj[size_t(u)] = {y2, x1, t};
         repoint(m, x1, t, u);
         repoint(m, y1, u, t);
+        mark(m, t), mark(m, u);
         check.push_back({t, 0});
         check.push_back({t, 2});
         check.push_back({u, 0});
@@ -541,21 +632,49 @@ private:
         if (s.kind != Surface::Kind::Plane) {
             const size_t limit = m.tri.size() * 64 + 200000;
             auto to_surface = [&](const Vector2d& uv) { return surface_point(s, uv.x() / scale_.x(), uv.y() / scale_.y()); };
+            // A polygon edge is a straight line in uv but its curve is not: the
+            // surface at its uv middle may lie farther from its chord than the
+            // tolerance, and no inner split can mend that (an inner edge beside
+            // it would be split for ever). So an inner edge from a boundary node
+            // is allowed what the polygon edges at that node show.
+            std::vector<double> allowance(nodes_.size(), 0.0);
+            for (const auto& [a, b] : polygon_edges) {
+                if (nodes_[a].point == nodes_[b].point) continue;
+                const double e = (to_surface(0.5 * (nodes_[a].uv + nodes_[b].uv)) - 0.5 * (on_surface_[a] + on_surface_[b])).norm();
+                allowance[a] = std::max(allowance[a], e);
+                allowance[b] = std::max(allowance[b], e);
+            }
+            auto allowance_at = [&](uint32_t n) { return n < allowance.size() ? allowance[n] : 0.0; };
+            // Each round looks only at the edges of triangles the last one
+            // made or changed: the others were within the tolerance already.
+            m.touched.assign(m.tri.size(), 1);
             for (int round = 0; round < 40 && m.tri.size() < limit; ++round) {
                 std::vector<std::pair<int32_t, int>> split;
+                std::vector<char> touched(m.tri.size(), 0);
+                std::swap(touched, m.touched);
                 for (size_t t = 0; t < m.tri.size(); ++t)
                     for (int k = 0; k < 3; ++k) {
                         const int32_t u = m.adj[t][size_t(k)];
                         if (u < int32_t(t)) continue;  // each inner edge once; polygon edges (-1) never
-                        const UvPoint &a = nodes_[m.tri[t][size_t(k)]], &b = nodes_[m.tri[t][size_t((k + 1) % 3)]];
+                        if (!touched[t] && !touched[size_t(u)]) continue;
+                        const uint32_t na = m.tri[t][size_t(k)], nb = m.tri[t][size_t((k + 1) % 3)];
+                        const UvPoint &a = nodes_[na], &b = nodes_[nb];
                         if (a.point == b.point) continue;
-                        const Vector3d chord = 0.5 * (out_.mesh.points[a.point] + out_.mesh.points[b.point]);
-                        if ((to_surface(0.5 * (a.uv + b.uv)) - chord).norm() > tol_.chord) split.push_back({int32_t(t), k});
+                        // (the chord between the surface's points at the ends' uv: an
+                        // edge point lies only within the exporter's tolerance of
+                        // the surface, which no splitting near it would remove)
+                        const Vector3d chord = 0.5 * (on_surface_[na] + on_surface_[nb]);
+                        // From a pole (a cone's apex, a sphere's pole) the surface
+                        // runs along the other end's u: a pole node's own u says nothing.
+                        Vector2d mid = 0.5 * (a.uv + b.uv);
+                        if (pole_node(s, a)) mid.x() = b.uv.x();
+                        else if (pole_node(s, b)) mid.x() = a.uv.x();
+                        const double allowed = std::max(tol_.chord, 2 * std::max(allowance_at(na), allowance_at(nb)));
+                        if ((to_surface(mid) - chord).norm() > allowed) split.push_back({int32_t(t), k});
                     }
                 if (split.empty()) break;
                 for (const auto& [t0, k0] : split) {
                     // The edge may have moved with earlier splits' flips: found again by its ends.
-                    (void)k0;
                     const uint32_t a = m.tri[size_t(t0)][size_t(k0)], b = m.tri[size_t(t0)][size_t((k0 + 1) % 3)];
                     const int k = corner_of(m, t0, a, b);
                     if (k < 0 || m.adj[size_t(t0)][size_t(k)] < 0) continue;
@@ -579,7 +698,9 @@ private:
         const int32_t y1 = m.adj[size_t(u)][size_t((ku + 1) % 3)], y2 = m.adj[size_t(u)][size_t((ku + 2) % 3)];
         const Vector2d mid = 0.5 * (nodes_[a].uv + nodes_[b].uv);
         const uint32_t mn = uint32_t(nodes_.size());
-        nodes_.push_back({mid, add_point(to_surface(mid))});
+        const Vector3d p = to_surface(mid);
+        nodes_.push_back({mid, add_point(p)});
+        on_surface_.push_back(p);
         const int32_t t2 = int32_t(m.tri.size()), u2 = t2 + 1;
         // t = (a, m, c), t2 = (m, b, c), u = (b, m, d), u2 = (m, a, d)
         m.tri[size_t(t)] = {a, mn, c};
@@ -592,6 +713,7 @@ private:
         m.adj.push_back({t, y1, u});
         repoint(m, x1, t, t2);
         repoint(m, y1, u, u2);
+        mark(m, t), mark(m, u), mark(m, t2), mark(m, u2);
         check.push_back({t, 2});
         check.push_back({t2, 1});
         check.push_back({u, 2});
@@ -599,6 +721,7 @@ private:
     }
 
     const Brep& b_;
+    const Solid& solid_;
     Tolerance tol_;
     SolidMesh& out_;
     Vector2d scale_ = Vector2d::Ones();
@@ -606,7 +729,35 @@ private:
     std::unordered_map<uint32_t, std::vector<uint32_t>> edge_points_;
     std::vector<uint32_t> poly_points_;
     std::vector<UvPoint> nodes_;  // the current face's (scaled) uv nodes
+    std::vector<Vector3d> on_surface_;  // the surface's point at each node's uv
 };
+
+// The diagonal of a solid's bounding box, from its edges (coarsely
+// discretised, so that an arc's bulge counts) and faceted loops (a sphere's or
+// torus's radius where there is nothing else): what a relative chord
+// tolerance is relative to.
+double solid_size(const Brep& b, const Solid& solid) {
+    Eigen::AlignedBox3d box;
+    double radius = 0;
+    Tolerance coarse;
+    coarse.chord = INFINITY;
+    coarse.angle = kTwoPi / 24;
+    for (const Shell& sh : solid.shells)
+        for (uint32_t fi : sh.faces) {
+            const Face& f = b.faces[fi];
+            radius = std::max({radius, f.surface.radius + f.surface.minor_radius});
+            for (const Loop& l : f.bounds) {
+                if (l.kind == Loop::Kind::Vertex) box.extend(b.vertices[l.vertex].point);
+                for (const Vector3d& p : l.polygon) box.extend(p);
+                for (const OrientedEdge& oe : l.edges) {
+                    for (const Vector3d& p : discretise(b, b.edges[oe.edge], coarse))
+                        if (p.allFinite()) box.extend(p);
+                }
+            }
+        }
+    const double diagonal = box.isEmpty() ? 0.0 : box.diagonal().norm();
+    return std::isfinite(diagonal) && diagonal > 0 ? diagonal : 2 * radius;
+}
 
 }  // namespace
 
@@ -617,7 +768,14 @@ std::vector<SolidMesh> tessellate(const Brep& b, const Tolerance& tolerance) {
         SolidMesh m;
         m.name = solid.name;
         m.solid = k;
-        SolidTessellator t(b, tolerance, m);
+        Tolerance tol = tolerance;
+        if (!(tol.chord > 0)) {
+            const double size = solid_size(b, solid);
+            // (a solid with no extent at all is meshed at a micrometre: it has no size to be relative to)
+            tol.chord = size > 0 ? tolerance.relative_chord * size : 1e-6;
+        }
+        m.chord = tol.chord;
+        SolidTessellator t(b, solid, tol, m);
         for (const Shell& sh : solid.shells)
             for (uint32_t f : sh.faces) t.face(b.faces[f], sh.reversed);
         out.push_back(std::move(m));

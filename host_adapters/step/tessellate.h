@@ -27,7 +27,9 @@ struct SolidMesh {
     std::string name;
     uint32_t solid = 0;          // index into Brep::solids
     TriangleMesh mesh;
+    double chord = 0;  // the chord tolerance the mesh was made with (metres)
     size_t faces_meshed = 0, faces_failed = 0;
+    size_t sense_disagreements = 0;  // faces whose same-sense flag contradicts their bounds (the bounds win)
     std::vector<Problem> problems;  // faces that could not be meshed, by entity
 };
 

@@ -146,7 +146,7 @@ TEST_CASE("step evaluate: a circle and a B-spline arc as edges: endpoints exact,
     arc.start = 0, arc.end = 1;
     for (const double chord : {1e-3, 1e-5}) {
         CAPTURE(chord);
-        const Tolerance tol{chord, M_PI / 36};
+        const Tolerance tol = Tolerance::absolute(chord, M_PI / 36);
         const std::vector<Vector3d> ring = discretise(b, circle, tol);
         // ceil(2 pi / min(5 deg, 2 acos(1 - chord))) segments, closing on the start.
         const double step = std::min(M_PI / 36, 2 * std::acos(1 - chord));
@@ -178,7 +178,7 @@ TEST_CASE("step evaluate: every edge of the real solids discretised, starting an
                                     mbx_test::shared_data("step/nist_ctc_02/nist_ctc_02_asme1_ap242-1.stp")}) {
         CAPTURE(path);
         const Brep b = read_breps(read_part21_file(path));
-        const Tolerance tol{1e-5, M_PI / 36};
+        const Tolerance tol = Tolerance::absolute(1e-5, M_PI / 36);
         size_t points = 0;
         for (const Edge& e : b.edges) {
             const std::vector<Vector3d> pts = discretise(b, e, tol);

@@ -1,0 +1,136 @@
+// Every real STEP file the tests have (../shared/data/step, Debian's
+// occt-misc and gmsh-doc), read, placed and meshed at the default tolerance,
+// against OpenCASCADE's reading of the same file: the same solids in the
+// same places, each mesh closed with outward normals, and volume, centroid
+// and inertia within the issue's bounds of OpenCASCADE's exact integrals.
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/geometry/mesh_properties.h"
+#include "host_adapters/step/assembly.h"
+#include "host_adapters/step/brep.h"
+#include "host_adapters/step/part21.h"
+#include "host_adapters/step/tessellate.h"
+#include "tests/common/near.h"
+#include "tests/common/shared_data.h"
+#include "tests/common/skip.h"
+#include "tests/common/temp_dir.h"
+#include "tests/step/step_test_support.h"
+
+namespace MBX_UNITY_ID {
+
+using namespace mbx_step;
+
+namespace {
+
+struct Measured {
+    double volume = 0, signed_volume = 0;
+    Eigen::Vector3d centroid;
+    Eigen::Matrix3d inertia;
+    std::string name;
+};
+
+// A Debian-packaged file, or a skip naming the package that holds it.
+std::string packaged(const std::string& path, const std::string& package) {
+    if (FILE* f = std::fopen(path.c_str(), "rb")) {
+        std::fclose(f);
+        return path;
+    }
+    throw mbx_test::SkipTest{path + " is missing: install " + package + " (bash .ci/install-deps)"};
+}
+
+// A gzipped packaged file, unpacked into the test's temporary folder.
+std::string gunzipped(const std::string& gz, const std::string& package, const mbx_test::TempDir& dir) {
+    const std::string source = packaged(gz, package);
+    const std::string out = dir.file(std::filesystem::path(gz).stem().string());
+    REQUIRE(std::system(("gzip -dc '" + source + "' > '" + out + "'").c_str()) == 0);
+    return out;
+}
+
+void check_file(const std::string& path) {
+    CAPTURE(path);
+    const File f = read_part21_file(path);
+    const Brep b = read_breps(f);
+    for (const Problem& p : b.problems) FAIL_CHECK("#" << p.entity << " (line " << p.line << "): " << p.message);
+    const Assembly placed = place_solids(f, b);
+    for (const Problem& p : placed.problems) FAIL_CHECK("#" << p.entity << ": " << p.message);
+    const std::vector<SolidMesh> meshes = tessellate(b, Tolerance{});
+    REQUIRE(meshes.size() == b.solids.size());
+    std::vector<Measured> solids;
+    for (const PlacedSolid& ps : placed.solids) {
+        const SolidMesh& m = meshes[ps.solid];
+        CAPTURE(m.name);
+        for (const Problem& p : m.problems) FAIL_CHECK("#" << p.entity << " (line " << p.line << "): " << p.message);
+        std::vector<uint32_t> flat;
+        double six_volume = 0;
+        for (const auto& t : m.mesh.triangles) {
+            flat.insert(flat.end(), t.begin(), t.end());
+            six_volume += m.mesh.points[t[0]].dot(m.mesh.points[t[1]].cross(m.mesh.points[t[2]]));
+        }
+        const mbx::MeshClosure closure = mbx::check_closure(flat);
+        CHECK(closure.closed);
+        CHECK(closure.boundary_edges == 0);
+        CHECK(closure.nonmanifold_edges == 0);
+        mbx::SolidAccumulator acc;
+        acc.add(m.mesh.points, flat);
+        const mbx::SolidProperties props = acc.result();
+        const Eigen::Matrix3d R = ps.pose.linear();
+        solids.push_back({props.volume, six_volume / 6, ps.pose * props.centroid,
+                          R * props.inertia_per_density * R.transpose(), ps.product + " " + ps.occurrence});
+    }
+    const step_test::Oracle oracle = step_test::occt(path);
+    REQUIRE(solids.size() == oracle.solids.size());
+    // Each of OpenCASCADE's solids against the nearest of mbx's not yet taken.
+    std::vector<bool> taken(solids.size(), false);
+    for (const step_test::OracleSolid& exact : oracle.solids) {
+        size_t best = solids.size();
+        double nearest = INFINITY;
+        for (size_t k = 0; k < solids.size(); ++k) {
+            const double d = (solids[k].centroid - exact.centroid).norm() + std::abs(std::cbrt(solids[k].volume) - std::cbrt(exact.volume));
+            if (!taken[k] && d < nearest) nearest = d, best = k;
+        }
+        REQUIRE(best < solids.size());
+        taken[best] = true;
+        const Measured& mine = solids[best];
+        CAPTURE(mine.name);
+        const double size = std::cbrt(exact.volume);
+        CHECK(mine.signed_volume > 0);  // normals out of the material
+        CHECK(mine.volume == mbx_test::relative(exact.volume, 1e-4));
+        CHECK((mine.centroid - exact.centroid).norm() == mbx_test::within(0, 1e-4 * size, "1e-4 of the solid's size"));
+        CHECK((mine.inertia - exact.inertia).norm() ==
+              mbx_test::within(0, 1e-3 * exact.inertia.norm(), "1e-3 of the inertia"));
+    }
+}
+
+}  // namespace
+
+TEST_CASE("step real files: the DFKI levers (SolidWorks AP214 parts) against OpenCASCADE") {
+    for (const char* name : {"lever_200.STEP", "lever_300.STEP", "lever_400.STEP"})
+        check_file(mbx_test::shared_data(std::string("step/dfki_double_pendulum/") + name));
+}
+
+TEST_CASE("step real files: the DFKI double pendulum (SolidWorks assembly, 26 placed solids) against OpenCASCADE") {
+    check_file(mbx_test::shared_data("step/dfki_double_pendulum/double_pendulum.STEP"));
+}
+
+TEST_CASE("step real files: NIST CTC 02 (AP242, 487 faces, B-splines and PMI) against OpenCASCADE") {
+    check_file(mbx_test::shared_data("step/nist_ctc_02/nist_ctc_02_asme1_ap242-1.stp"));
+}
+
+TEST_CASE("step real files: OpenCASCADE's screw.step (spindle tori) and linkrods.step (B-splines)") {
+    check_file(packaged("/usr/share/opencascade/data/step/screw.step", "occt-misc"));
+    check_file(packaged("/usr/share/opencascade/data/step/linkrods.step", "occt-misc"));
+}
+
+TEST_CASE("step real files: gmsh's AS1 assembly (AP203, mapped items, 18 placed solids) and B-spline solid") {
+    mbx_test::TempDir dir;
+    check_file(gunzipped("/usr/share/doc/gmsh-doc/doc/gmsh/demos/api/as1-tu-203.stp.gz", "gmsh-doc", dir));
+    check_file(gunzipped("/usr/share/doc/gmsh-doc/doc/gmsh/tutorial/t20_data.step.gz", "gmsh-doc", dir));
+}
+
+}  // namespace MBX_UNITY_ID
