@@ -14,5 +14,6 @@ int run_library(const std::vector<std::string>& args);
 int run_simulate(const std::vector<std::string>& args);
 int run_calibrate(const std::vector<std::string>& args);
 int run_view(const std::vector<std::string>& args);
+int run_geometry(const std::vector<std::string>& args);
 
 }  // namespace mbx_cli

@@ -19,6 +19,9 @@ const char* kUsage =
     "                               calibration.json, calibration.html and description.xml to <dir>\n"
     "  view <input> -o <dir>        write view.html to <dir>: the assembly in a browser, offline, playing\n"
     "                               <dir>/trajectory.csv when a simulation left one there\n"
+    "  geometry <file.step> [-o <dir>]\n"
+    "                               print each solid of a STEP file (volume, centroid, inertia, mesh\n"
+    "                               closure); writes its meshes (STL, OBJ or glTF) to <dir>\n"
     "  list                         list the built-in assemblies usable as <input>\n"
     "  formats                      list the file formats usable as <input>\n"
     "  library <file.xml>...        check object library files and show derived drive quantities\n"
@@ -49,6 +52,7 @@ int main(int argc, char** argv) {
     if (command == "simulate") return mbx_cli::run_simulate(rest);
     if (command == "calibrate") return mbx_cli::run_calibrate(rest);
     if (command == "view") return mbx_cli::run_view(rest);
+    if (command == "geometry") return mbx_cli::run_geometry(rest);
     if (command == "list") return mbx_cli::run_list(rest);
     if (command == "formats") return mbx_cli::run_formats(rest);
     if (command == "library") return mbx_cli::run_library(rest);

@@ -1,5 +1,7 @@
 #include "mesh_file.h"
 #include "host_adapters/common/text.h"
+#include "host_adapters/step/assembly.h"
+#include "host_adapters/step/tessellate.h"
 
 #include <algorithm>
 #include <cctype>
@@ -97,6 +99,17 @@ bool probe_mesh_file(const std::string& path, std::string& why) {
         why = ec ? "cannot read its size: " + ec.message() : std::string("the file is empty");
         return false;
     }
+    if (is_step_file(path)) {
+        char head[64] = {};
+        in.read(head, sizeof head);
+        const std::string text(head, size_t(in.gcount()));
+        const size_t first = text.find_first_not_of(" \t\r\n");
+        if (first == std::string::npos || text.compare(first, 12, "ISO-10303-21") != 0) {
+            why = "it does not start as a STEP file does ('ISO-10303-21;')";
+            return false;
+        }
+        return true;
+    }
     if (lower_case(fs::path(path).extension().string()) != ".stl") return true;
     char head[1024] = {};
     in.read(head, sizeof head);
@@ -126,7 +139,62 @@ bool probe_mesh_file(const std::string& path, std::string& why) {
     return true;
 }
 
-bool load_mesh_file(const std::string& path, mbx_memory::Mesh& out, std::string& error) {
+bool is_step_file(const std::string& path) {
+    const std::string ext = lower_case(fs::path(path).extension().string());
+    return ext == ".step" || ext == ".stp";
+}
+
+namespace {
+
+// Every placed solid of a STEP file as one mesh (assimp reads no mechanical
+// STEP). Faces that could not be meshed leave holes: said in the error only
+// when nothing at all was meshed, since a mesh with a hole still shows the
+// part (the mass check and the report judge its closure).
+bool load_step(const std::string& path, mbx_memory::Mesh& out, std::string& error, double unit_m) {
+    try {
+        const mbx_step::File file = mbx_step::read_part21_file(path);
+        const mbx_step::Brep brep = mbx_step::read_breps(file);
+        const mbx_step::Assembly placed = mbx_step::place_solids(file, brep);
+        const std::vector<mbx_step::SolidMesh> meshes = mbx_step::tessellate(brep, mbx_step::Tolerance{});
+        const double scale = unit_m > 0 ? 1.0 / unit_m : 1.0;
+        for (const mbx_step::PlacedSolid& p : placed.solids) {
+            const mbx_step::TriangleMesh& m = meshes[p.solid].mesh;
+            const uint32_t base = uint32_t(out.vertices.size() / 3);
+            for (const Eigen::Vector3d& v : m.points) {
+                const Eigen::Vector3d w = (p.pose * v) * scale;
+                out.vertices.insert(out.vertices.end(), {w.x(), w.y(), w.z()});
+            }
+            for (const auto& t : m.triangles)
+                out.triangles.insert(out.triangles.end(), {base + t[0], base + t[1], base + t[2]});
+        }
+        if (out.triangles.empty()) {
+            error = brep.solids.empty() ? "it holds no solid mbx reads (no B-rep)"
+                                        : "none of its faces could be meshed";
+            return false;
+        }
+        return true;
+    } catch (const mbx_step::ReadError& e) {
+        error = e.what();
+        return false;
+    } catch (const std::bad_alloc&) {
+        error = "it needs more memory than is available to mesh";
+        return false;
+    } catch (const std::exception& e) {
+        error = e.what();
+        return false;
+    }
+}
+
+}  // namespace
+
+bool load_mesh_file(const std::string& path, mbx_memory::Mesh& out, std::string& error, double unit_m) {
+    if (is_step_file(path)) {
+        out = mbx_memory::Mesh{};
+        out.name = fs::path(path).filename().string();
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) out.pose.rotation[3 * i + j] = i == j ? 1.0 : 0.0;
+        return load_step(path, out, error, unit_m);
+    }
     Assimp::Importer importer;
     // STL stores a normal per facet corner; with normals kept, JoinIdenticalVertices
     // would not weld corners of differently facing facets and no mesh would be closed.

@@ -40,8 +40,14 @@ private:
 bool probe_mesh_file(const std::string& path, std::string& why);
 
 // Reads every triangle of the file into one mesh, in the file's own
-// coordinates and units (node transforms of multi-node formats applied).
-// Returns false and says why when the file cannot be read or has no triangles.
-bool load_mesh_file(const std::string& path, mbx_memory::Mesh& out, std::string& error);
+// coordinates (node transforms of multi-node formats applied). Mesh formats
+// carry no unit and come in the file's own numbers; a STEP file (.step,
+// .stp) knows its unit and is meshed (host_adapters/step, at its default
+// tolerance) in `unit_m` metres per unit (1 when 0). Returns false and says
+// why when the file cannot be read or has no triangles.
+bool load_mesh_file(const std::string& path, mbx_memory::Mesh& out, std::string& error, double unit_m = 0);
+
+// Whether the file is STEP by its name (.step, .stp, any case).
+bool is_step_file(const std::string& path);
 
 }  // namespace mbx_files

@@ -14,6 +14,7 @@ struct FileAdapter::Lazy {
     struct Source {
         std::string path, body_name;
         int line = 0;
+        double unit_m = 0;  // the body's length unit, which a STEP mesh is given in
     };
     std::string xml_file;
     std::map<std::string, Source> files;  // by body id
@@ -25,7 +26,7 @@ struct FileAdapter::Lazy {
         if (it == files.end()) return true;
         mbx_memory::Mesh mesh;
         std::string error;
-        if (load_mesh_file(it->second.path, mesh, error)) {
+        if (load_mesh_file(it->second.path, mesh, error, it->second.unit_m)) {
             out.push_back(std::move(mesh));
             return true;
         }
@@ -140,7 +141,8 @@ std::unique_ptr<FileAdapter> FileAdapter::open(const std::string& xml_path, cons
                                                                "; the body gets no mesh from it"));
         else {
             self->mesh_files_[b.id] = path;
-            lazy->files[b.id] = {path, b.name, b.geometry_line};
+            const double unit_m = b.cs1 >= 0 && size_t(b.cs1) < model.frames.size() ? model.frames[size_t(b.cs1)].length_to_m : 0;
+            lazy->files[b.id] = {path, b.name, b.geometry_line, unit_m};
         }
     }
 

@@ -219,6 +219,10 @@ public:
             const std::vector<UvPoint>& a = wrapping[0];
             std::vector<UvPoint> band(a.begin(), a.end());
             const Vector2d shift = a.back().uv - a.front().uv;
+            // After the seam from a's end: the other loop and its first point
+            // again a period on, or the pole row.
+            std::vector<UvPoint> beyond;
+            Vector2d seam_end;
             if (wrapping.size() >= 2) {
                 std::vector<UvPoint> other = wrapping[1];
                 // The other loop traversed against the first, starting at its
@@ -247,28 +251,51 @@ public:
                 Vector2d offset = a.back().uv - other[0].uv;
                 for (int d = 0; d < 2; ++d)
                     offset[d] = periods[d] > 0 ? periods[d] * std::round(offset[d] / periods[d]) : 0;
+                // On a surface periodic across the band too (a torus), the other
+                // loop may sit a period either side: the face lies left of its
+                // first loop seen from its outside (right of it in the surface's
+                // own uv when the face is against the surface's normal).
+                const int across_d = std::abs(shift.x()) >= std::abs(shift.y()) ? 1 : 0;
+                if (periods[across_d] > 0) {
+                    const double side = cross2(shift, other[0].uv + offset - a.back().uv);
+                    const double want = f.same_sense ? 1.0 : -1.0;
+                    if (side * want < 0) offset[across_d] += periods[across_d] * (shift[1 - across_d] > 0 ? want : -want) * (across_d == 1 ? 1.0 : -1.0);
+                }
                 for (UvPoint& p : other) p.uv += offset;
-                for (const UvPoint& p : other) band.push_back(p);
+                seam_end = other[0].uv;
+                beyond = other;
                 UvPoint closing = other[0];
                 closing.uv -= shift;  // the other loop's first point again, a period on
-                band.push_back(closing);  // the seam back to a's first point closes the polygon
+                beyond.push_back(closing);
                 for (size_t w = 2; w < wrapping.size(); ++w) holes.push_back(wrapping[w]);
-            } else if (!poles.empty()) {
-                UvPoint pole = poles[0];
-                band.push_back({Vector2d(a.back().uv.x(), pole.uv.y()), pole.point});
-                band.push_back({Vector2d(a.front().uv.x(), pole.uv.y()), pole.point});
             } else {
-                // Wrapping once with nothing to close against: a pole of the
-                // surface itself (a sphere's cap bounded by one circle).
-                const double v_pole = pole_v(s, a);
-                if (std::isnan(v_pole)) {
-                    fail(f, "a bound winds round the surface and nothing closes it");
-                    return;
+                // Wrapping once: closed by a pole the bounds name (a vertex
+                // loop) or by one of the surface's own (a sphere's cap bounded
+                // by one circle).
+                double v_pole = NAN;
+                uint32_t apex = kUnresolved;
+                if (!poles.empty()) {
+                    v_pole = poles[0].uv.y();
+                    apex = poles[0].point;
+                } else {
+                    v_pole = pole_v(s, a);
+                    if (std::isnan(v_pole)) {
+                        fail(f, "a bound winds round the surface and nothing closes it");
+                        return;
+                    }
+                    apex = pole_point(surface_point(s, a.front().uv.x(), v_pole));
                 }
-                const uint32_t apex = pole_point(surface_point(s, a.front().uv.x(), v_pole));
-                band.push_back({Vector2d(a.back().uv.x(), v_pole), apex});
-                band.push_back({Vector2d(a.front().uv.x(), v_pole), apex});
+                seam_end = Vector2d(a.back().uv.x(), v_pole);
+                beyond.push_back({seam_end, apex});
+                beyond.push_back({Vector2d(a.front().uv.x(), v_pole), apex});
             }
+            // The seam is a curve on the surface (a sphere's meridian, a
+            // torus's minor circle) that the face meets on both sides: its
+            // points are made once and used by both copies, a period apart.
+            const std::vector<UvPoint> across = seam_points(s, a.back().uv, seam_end);
+            band.insert(band.end(), across.begin(), across.end());
+            band.insert(band.end(), beyond.begin(), beyond.end());
+            for (auto it = across.rbegin(); it != across.rend(); ++it) band.push_back({it->uv - shift, it->point});
             outer = band;
             if (band.size() >= 2 && (band.back().uv - band.front().uv).norm() < 1e-12 && band.back().point == band.front().point)
                 outer.pop_back();
@@ -355,6 +382,39 @@ private:
     void fail(const Face& f, const std::string& why) {
         ++out_.faces_failed;
         out_.problems.push_back({f.line, f.id, "face not meshed: " + why});
+    }
+
+    // The points inside a seam from `from` to `to` (a straight line in uv),
+    // close enough for the chord and the angle tolerance.
+    std::vector<UvPoint> seam_points(const Surface& s, const Vector2d& from, const Vector2d& to) {
+        std::vector<double> at;
+        auto point_at = [&](double t) {
+            const Vector2d uv = from + t * (to - from);
+            return surface_point(s, uv.x(), uv.y());
+        };
+        struct Span {
+            double t0, t1;
+            Vector3d p0, p1;
+            int depth;
+        };
+        std::vector<Span> stack = {{0, 1, point_at(0), point_at(1), 0}};
+        while (!stack.empty()) {
+            const Span sp = stack.back();
+            stack.pop_back();
+            const double tm = 0.5 * (sp.t0 + sp.t1);
+            const Vector3d pm = point_at(tm);
+            const Vector3d d0 = pm - sp.p0, d1 = sp.p1 - pm;
+            const double turn = d0.norm() > 0 && d1.norm() > 0 ? std::acos(std::clamp(d0.normalized().dot(d1.normalized()), -1.0, 1.0)) : 0;
+            if (sp.depth < 20 && ((pm - 0.5 * (sp.p0 + sp.p1)).norm() > tol_.chord || turn > 0.5 * tol_.angle)) {
+                stack.push_back({tm, sp.t1, pm, sp.p1, sp.depth + 1});  // (the right half after the left)
+                stack.push_back({sp.t0, tm, sp.p0, pm, sp.depth + 1});
+                at.push_back(tm);
+            }
+        }
+        std::sort(at.begin(), at.end());
+        std::vector<UvPoint> out;
+        for (double t : at) out.push_back({from + t * (to - from), add_point(point_at(t))});
+        return out;
     }
 
     // A pole the face's bounds do not name may still be a vertex of the

@@ -1,0 +1,153 @@
+// Solids whose volume is known exactly, written as STEP by the tests
+// (tests/common/step_solids.h): each meshed closed, with outward normals, and
+// its volume within the bound its own chord tolerance sets (the chord times
+// the surface's area: no point of the mesh is farther than the chord from
+// the surface). The same solids in millimetres, metres, inches and Onshape's
+// 'METRE' are one solid, and a cone's semi-angle reads right in degrees.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/geometry/mesh_properties.h"
+#include "host_adapters/step/brep.h"
+#include "host_adapters/step/part21.h"
+#include "host_adapters/step/tessellate.h"
+#include "tests/common/near.h"
+#include "tests/common/step_solids.h"
+
+namespace MBX_UNITY_ID {
+
+using namespace mbx_step;
+using Eigen::Vector3d;
+using mbx_test::StepSolidWriter;
+using mbx_test::StepUnit;
+
+namespace {
+
+struct Meshed {
+    double volume = 0, signed_volume = 0, chord = 0;
+    Vector3d centroid = Vector3d::Zero();
+    size_t triangles = 0, points = 0;
+    bool closed = false;
+    size_t problems = 0;
+};
+
+std::vector<Meshed> mesh_all(const std::string& text, const Tolerance& tolerance = Tolerance{}) {
+    const File f = read_part21(text, "analytic.step");
+    const Brep b = read_breps(f);
+    for (const Problem& p : b.problems) FAIL_CHECK("#" << p.entity << ": " << p.message);
+    std::vector<Meshed> out;
+    for (const SolidMesh& m : tessellate(b, tolerance)) {
+        for (const Problem& p : m.problems) FAIL_CHECK("#" << p.entity << ": " << p.message);
+        Meshed r;
+        std::vector<uint32_t> flat;
+        double six = 0;
+        for (const auto& t : m.mesh.triangles) {
+            flat.insert(flat.end(), t.begin(), t.end());
+            six += m.mesh.points[t[0]].dot(m.mesh.points[t[1]].cross(m.mesh.points[t[2]]));
+        }
+        mbx::SolidAccumulator acc;
+        acc.add(m.mesh.points, flat);
+        r.volume = acc.result().volume;
+        r.centroid = acc.result().centroid;
+        r.signed_volume = six / 6;
+        r.chord = m.chord;
+        r.triangles = m.mesh.triangles.size();
+        r.points = m.mesh.points.size();
+        r.closed = mbx::check_closure(flat).closed;
+        r.problems = m.problems.size();
+        out.push_back(r);
+    }
+    return out;
+}
+
+// One solid: closed, outward, and its volume within chord x area of the exact one.
+void check_exact(const Meshed& m, double volume, double area) {
+    CHECK(m.closed);
+    CHECK(m.problems == 0);
+    CHECK(m.signed_volume > 0);
+    CHECK(m.volume == mbx_test::within(volume, m.chord * area, "the chord tolerance times the surface's area"));
+}
+
+}  // namespace
+
+TEST_CASE("step analytic solids: box, tube, sphere, torus, frustum and B-spline plane and cylinder have their exact volumes") {
+    const double pi = M_PI;
+    StepSolidWriter w;
+    w.box(Vector3d(-0.01, 0.02, 0.005), Vector3d(0.03, 0.05, 0.012));
+    w.tube(0.02, 0.008, -0.01, 0.025);
+    w.sphere(0.015, Vector3d(0.1, -0.02, 0.03));
+    w.torus(0.03, 0.007);
+    w.frustum(0.02, 0.008, 0.03);
+    w.spline_cylinder(0.012, 0.04);
+    w.box(Vector3d(0, 0, 0), Vector3d(0.04, 0.02, 0.01), true);
+    const std::vector<Meshed> m = mesh_all(w.file());
+    REQUIRE(m.size() == 7);
+    check_exact(m[0], 0.04 * 0.03 * 0.007, 2 * (0.04 * 0.03 + 0.03 * 0.007 + 0.04 * 0.007));
+    check_exact(m[1], pi * (0.02 * 0.02 - 0.008 * 0.008) * 0.035,
+                2 * pi * (0.02 + 0.008) * 0.035 + 2 * pi * (0.02 * 0.02 - 0.008 * 0.008));
+    check_exact(m[2], 4.0 / 3 * pi * std::pow(0.015, 3), 4 * pi * 0.015 * 0.015);
+    CHECK((m[2].centroid - Vector3d(0.1, -0.02, 0.03)).norm() == mbx_test::within(0, 1e-4 * 0.015, "1e-4 of the radius"));
+    check_exact(m[3], 2 * pi * pi * 0.03 * 0.007 * 0.007, 4 * pi * pi * 0.03 * 0.007);
+    const double slant = std::hypot(0.03, 0.012);
+    check_exact(m[4], pi * 0.03 / 3 * (0.02 * 0.02 + 0.02 * 0.008 + 0.008 * 0.008),
+                pi * (0.02 + 0.008) * slant + pi * (0.02 * 0.02 + 0.008 * 0.008));
+    // The frustum's centroid height from the formula for a truncated cone.
+    const double r0 = 0.02, r1 = 0.008, h = 0.03;
+    const double zc = h * (r0 * r0 + 2 * r0 * r1 + 3 * r1 * r1) / (4 * (r0 * r0 + r0 * r1 + r1 * r1));
+    CHECK(m[4].centroid.z() == mbx_test::within(zc, 1e-4 * h, "1e-4 of the height"));
+    check_exact(m[5], pi * 0.012 * 0.012 * 0.04, 2 * pi * 0.012 * 0.04 + 2 * pi * 0.012 * 0.012);
+    check_exact(m[6], 0.04 * 0.02 * 0.01, 2 * (0.04 * 0.02 + 0.02 * 0.01 + 0.04 * 0.01));
+    // A looser tolerance still keeps the bound (and meshes with fewer triangles).
+    Tolerance loose;
+    loose.relative_chord = 1e-3;
+    loose.angle = M_PI / 18;
+    const std::vector<Meshed> coarse = mesh_all(w.file(), loose);
+    REQUIRE(coarse.size() == 7);
+    CHECK(coarse[2].triangles < m[2].triangles / 4);
+    CHECK(coarse[2].closed);
+    CHECK(coarse[2].volume == mbx_test::within(4.0 / 3 * pi * std::pow(0.015, 3), coarse[2].chord * 4 * pi * 0.015 * 0.015,
+                                               "the chord tolerance times the surface's area"));
+    CHECK(coarse[3].volume == mbx_test::within(2 * pi * pi * 0.03 * 0.007 * 0.007, coarse[3].chord * 4 * pi * pi * 0.03 * 0.007,
+                                               "the chord tolerance times the surface's area"));
+}
+
+TEST_CASE("step analytic solids: one part in millimetres, metres, inches and Onshape's 'METRE' is one solid") {
+    std::vector<std::vector<Meshed>> runs;
+    for (StepUnit unit : {StepUnit::Millimetre, StepUnit::Metre, StepUnit::Inch, StepUnit::OnshapeMetre}) {
+        StepSolidWriter w(unit);
+        w.box(Vector3d(-0.01, 0.02, 0.005), Vector3d(0.03, 0.05, 0.012));
+        w.tube(0.02, 0.008, -0.01, 0.025);
+        runs.push_back(mesh_all(w.file()));
+        REQUIRE(runs.back().size() == 2);
+    }
+    CHECK(runs[0][0].volume == mbx_test::relative(0.04 * 0.03 * 0.007, 1e-12));
+    for (size_t k = 1; k < runs.size(); ++k) {
+        CAPTURE(k);
+        for (size_t s = 0; s < 2; ++s) {
+            // The same metres whatever the unit: the same mesh up to rounding.
+            CHECK(runs[k][s].triangles == runs[0][s].triangles);
+            CHECK(runs[k][s].volume == mbx_test::relative(runs[0][s].volume, 1e-9));
+            CHECK((runs[k][s].centroid - runs[0][s].centroid).norm() == mbx_test::within(0, 1e-12, "rounding"));
+        }
+    }
+}
+
+TEST_CASE("step analytic solids: a cone's semi-angle read in degrees where the file says so") {
+    StepSolidWriter radians(StepUnit::Millimetre, false), degrees(StepUnit::Millimetre, true);
+    radians.frustum(0.02, 0.008, 0.03);
+    degrees.frustum(0.02, 0.008, 0.03);
+    const std::string in_degrees = degrees.file();
+    CHECK(in_degrees.find("'DEGREE'") != std::string::npos);
+    const std::vector<Meshed> a = mesh_all(radians.file()), b = mesh_all(in_degrees);
+    REQUIRE(a.size() == 1);
+    REQUIRE(b.size() == 1);
+    const double exact = M_PI * 0.03 / 3 * (0.02 * 0.02 + 0.02 * 0.008 + 0.008 * 0.008);
+    CHECK(a[0].volume == mbx_test::relative(exact, 1e-4));
+    CHECK(b[0].volume == mbx_test::relative(a[0].volume, 1e-9));
+    CHECK(b[0].closed);
+}
+
+}  // namespace MBX_UNITY_ID
