@@ -10,6 +10,7 @@
 #include "tiny_pmxml.h"
 #include "translation_support.h"
 #include "tests/common/near.h"
+#include "tests/common/step_solids.h"
 
 namespace MBX_UNITY_ID {
 
@@ -274,4 +275,32 @@ TEST_CASE("adapter: VRML shapes attach to bodies by pose, own mesh files win") {
     CHECK(t.count("vrml_unmatched_shape") == 1);
     CHECK(t.mesh_total() == 2);
 }
+
+TEST_CASE("adapter: a body's geometry file may be STEP: meshed in the body's unit on its CAD centre of mass") {
+    // ARM's box as a CAD system would export it: a STEP part in its CS1 frame,
+    // here in metres while the model's lengths are millimetres.
+    const Eigen::Vector3d com_cs1_m = atest::tiny_arm_rotation().transpose() * Eigen::Vector3d(50, 20, 10) * 1e-3;
+    const Eigen::Vector3d half_m = 0.5e-3 * Eigen::Vector3d(30, 12, 8);
+    mbx_test::StepSolidWriter writer(mbx_test::StepUnit::Metre);
+    writer.box(com_cs1_m - half_m, com_cs1_m + half_m);
+    atest::TempDir dir;
+    atest::write_file(dir.file("tiny.xml"), atest::replace_once(atest::tiny_pmxml(), "\"ARM.stl\"", "\"ARM.STEP\""));
+    atest::write_file(dir.file("arm.step"), writer.file());
+    const auto adapter = FileAdapter::open(dir.file("tiny.xml"));
+    REQUIRE(adapter->mesh_files().count("12") == 1);
+    CHECK(adapter->mesh_files().at("12") == dir.file("arm.step"));
+    atest::Translation t(adapter->table(), MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES, 1e-5);
+    REQUIRE(t.status() == MBX_OK);
+    uint32_t arm = 0;
+    REQUIRE(mbx_mechanism_find_part(t.mechanism(), "12", &arm) == MBX_OK);
+    mbx_shape_stats st{};
+    st.struct_size = sizeof st;
+    REQUIRE(mbx_mechanism_get_shape_stats(t.context(), t.mechanism(), arm, &st) == MBX_OK);
+    CHECK(st.mesh_count == 1);
+    CHECK(st.triangle_count == 12);
+    // Read as millimetres (or left in metres) the box would sit far from the CAD centre of mass.
+    CHECK(t.count(MBX_FINDING_MASS_MISMATCH) == 0);
+    CHECK(t.count(MBX_FINDING_SHAPE_NOT_CLOSED) == 0);
+}
+
 }  // namespace MBX_UNITY_ID

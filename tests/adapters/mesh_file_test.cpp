@@ -7,6 +7,7 @@
 #include "adapter_test_support.h"
 #include "host_adapters/common/mesh_file.h"
 #include "stl_text.h"
+#include "tests/common/step_solids.h"
 
 namespace MBX_UNITY_ID {
 
@@ -107,4 +108,46 @@ TEST_CASE("mesh files: loaded as is, corners welded so the box is closed") {
     CHECK(error.find("no triangles") != std::string::npos);
     CHECK_FALSE(load_mesh_file(d.file("missing.stl"), mesh, error));
 }
+
+TEST_CASE("mesh files: a STEP part is meshed in the body's length unit, and a broken one is a clear error") {
+    atest::TempDir d;
+    mbx_test::StepSolidWriter writer(mbx_test::StepUnit::Inch);  // the file's unit is not the body's
+    writer.box(Eigen::Vector3d(0.010, 0.020, 0.030), Eigen::Vector3d(0.014, 0.025, 0.036));
+    const std::string text = writer.file();
+    atest::write_file(d.file("Part.STEP"), text);
+    std::string why;
+    CHECK(mbx_files::is_step_file(d.file("Part.STEP")));
+    CHECK(probe_mesh_file(d.file("Part.STEP"), why));
+    for (const double unit_m : {1e-3, 1.0}) {
+        CAPTURE(unit_m);
+        mbx_memory::Mesh mesh;
+        std::string error;
+        REQUIRE(load_mesh_file(d.file("Part.STEP"), mesh, error, unit_m));
+        CHECK(mesh.name == "Part.STEP");
+        CHECK(mesh.triangles.size() == 12 * 3);  // six planar faces, two triangles each
+        Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+        for (size_t i = 0; i < mesh.vertices.size(); i += 3) {
+            const Eigen::Vector3d v(mesh.vertices[i], mesh.vertices[i + 1], mesh.vertices[i + 2]);
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+        }
+        // Inches in the file, the body's unit out: the same box.
+        CHECK((lo * unit_m - Eigen::Vector3d(0.010, 0.020, 0.030)).norm() == mbx_test::within(0, 1e-15, "rounding"));
+        CHECK((hi * unit_m - Eigen::Vector3d(0.014, 0.025, 0.036)).norm() == mbx_test::within(0, 1e-15, "rounding"));
+    }
+    atest::write_file(d.file("junk.stp"), "solid x\nfacet normal 0 0 1\n");
+    CHECK_FALSE(probe_mesh_file(d.file("junk.stp"), why));
+    CHECK(why.find("ISO-10303-21") != std::string::npos);
+    // Cut off mid-file: refused naming the file and the line where it stops.
+    atest::write_file(d.file("cut.step"), text.substr(0, text.size() / 2));
+    mbx_memory::Mesh mesh;
+    std::string error;
+    CHECK_FALSE(load_mesh_file(d.file("cut.step"), mesh, error, 1e-3));
+    CHECK(error.find("cut.step") != std::string::npos);
+    // Well-formed but without any solid.
+    atest::write_file(d.file("empty.step"), mbx_test::StepSolidWriter().file());
+    CHECK_FALSE(load_mesh_file(d.file("empty.step"), mesh, error, 1e-3));
+    CHECK(error.find("no solid") != std::string::npos);
+}
+
 }  // namespace MBX_UNITY_ID

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/geometry/mesh_properties.h"
+#include "core/geometry/self_intersection.h"
 #include "host_adapters/step/brep.h"
 #include "host_adapters/step/part21.h"
 #include "host_adapters/step/tessellate.h"
@@ -56,7 +57,7 @@ std::vector<Meshed> mesh_all(const std::string& text, const Tolerance& tolerance
         r.chord = m.chord;
         r.triangles = m.mesh.triangles.size();
         r.points = m.mesh.points.size();
-        r.closed = mbx::check_closure(flat).closed;
+        r.closed = mbx::check_closure(flat).closed && mbx::find_self_intersections(m.mesh.points, flat).count == 0;
         r.problems = m.problems.size();
         out.push_back(r);
     }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/geometry/mesh_properties.h"
+#include "core/geometry/self_intersection.h"
 #include "host_adapters/step/assembly.h"
 #include "host_adapters/step/brep.h"
 #include "host_adapters/step/part21.h"
@@ -61,6 +62,13 @@ void check_file(const std::string& path) {
     for (const Problem& p : placed.problems) FAIL_CHECK("#" << p.entity << ": " << p.message);
     const std::vector<SolidMesh> meshes = tessellate(b, Tolerance{});
     REQUIRE(meshes.size() == b.solids.size());
+    // No mesh folds through itself (each solid once, however often placed).
+    for (const SolidMesh& m : meshes) {
+        CAPTURE(m.name);
+        std::vector<uint32_t> flat;
+        for (const auto& t : m.mesh.triangles) flat.insert(flat.end(), t.begin(), t.end());
+        CHECK(mbx::find_self_intersections(m.mesh.points, flat).count == 0);
+    }
     std::vector<Measured> solids;
     for (const PlacedSolid& ps : placed.solids) {
         const SolidMesh& m = meshes[ps.solid];
