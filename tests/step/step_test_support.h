@@ -60,4 +60,32 @@ inline Oracle occt(const std::string& path) {
 #endif
 }
 
+// OpenCASCADE's distance from each point (metres, in the file's frame) to
+// the nearest face of the file's shape.
+inline std::vector<double> occt_distances(const std::string& path, const std::vector<Eigen::Vector3d>& points,
+                                          const std::string& scratch) {
+#ifndef MBX_STEP_ORACLE
+    (void)path, (void)points, (void)scratch;
+    throw mbx_test::SkipTest{"OpenCASCADE was not found when this build was configured (bash .ci/install-deps)"};
+#else
+    {
+        FILE* out = std::fopen(scratch.c_str(), "w");
+        REQUIRE(out != nullptr);
+        for (const Eigen::Vector3d& p : points) std::fprintf(out, "%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+        std::fclose(out);
+    }
+    FILE* pipe = ::popen(("ASAN_OPTIONS=detect_leaks=0 " + std::string(MBX_STEP_ORACLE) + " '" + path + "' --distance '" +
+                          scratch + "'").c_str(), "r");
+    REQUIRE(pipe != nullptr);
+    std::vector<double> d;
+    char line[256];
+    double x = 0;
+    while (std::fgets(line, sizeof line, pipe))
+        if (std::sscanf(line, "distance %lf", &x) == 1) d.push_back(x);
+    REQUIRE(::pclose(pipe) == 0);
+    REQUIRE(d.size() == points.size());
+    return d;
+#endif
+}
+
 }  // namespace step_test
