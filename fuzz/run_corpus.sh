@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table step)
+((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table step step_mesh)
 bash .ci/install-deps  # clang-15, libfuzzer-15-dev, libomp-15-dev among them
 dir=$(bash .ci/configure sanitize)
 out=${MBX_FUZZ_OUT:-$dir/artifacts}
@@ -30,16 +30,16 @@ run_target() {
   case $t in
     vrml) dict=(-dict=fuzz/dict/vrml.dict) ;;
     pmxml | object_library | drive_file | experiment) dict=(-dict=fuzz/dict/xml.dict) ;;
-    step) dict=(-dict=fuzz/dict/step.dict) ;;
+    step | step_mesh) dict=(-dict=fuzz/dict/step.dict) ;;
   esac
   # The STEP reader also starts from real parts (../shared, read only).
   local seeds=()
-  if [[ $t == step ]]; then
-    mkdir -p "$scratch/step_seeds"
+  if [[ $t == step || $t == step_mesh ]]; then
+    mkdir -p "$scratch/${t}_seeds"
     for f in ../shared/data/step/dfki_double_pendulum/lever_*.STEP /usr/share/opencascade/data/step/screw.step; do
-      [[ -f $f ]] && ln -sf "$(realpath "$f")" "$scratch/step_seeds/"
+      [[ -f $f ]] && ln -sf "$(realpath "$f")" "$scratch/${t}_seeds/"
     done
-    seeds=("$scratch/step_seeds")
+    seeds=("$scratch/${t}_seeds")
   fi
   mkdir -p "$scratch/$t"
   # -timeout: one input taking 10 s is a hang; -rss_limit_mb: libFuzzer's
