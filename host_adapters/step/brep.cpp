@@ -12,7 +12,8 @@ bool flag(const File& f, const Value& v) { return !(v.kind == Kind::Enumeration 
 class BrepReader {
 public:
     explicit BrepReader(const File& f) : f_(f) {
-        for (const char* name : {"MANIFOLD_SOLID_BREP", "BREP_WITH_VOIDS", "FACETED_BREP", "SHELL_BASED_SURFACE_MODEL"})
+        for (const char* name : {"MANIFOLD_SOLID_BREP", "BREP_WITH_VOIDS", "FACETED_BREP", "SHELL_BASED_SURFACE_MODEL",
+                                 "TESSELLATED_SOLID", "TESSELLATED_SHELL"})
             solid_types_.push_back(f.type_id(name));
         closed_shell_ = f.type_id("CLOSED_SHELL");
         open_shell_ = f.type_id("OPEN_SHELL");
@@ -99,6 +100,12 @@ private:
         }
         GeometryReader& g = geometry(context, s.units);
         current_ = &g;
+        if (s.type == "TESSELLATED_SOLID" || s.type == "TESSELLATED_SHELL") {
+            tessellated(k, r, g, s.tessellated);
+            if (s.tessellated.triangles.empty()) problem(k, "a tessellated solid without a triangle");
+            out_.solids.push_back(std::move(s));
+            return;
+        }
         if (s.type == "SHELL_BASED_SURFACE_MODEL") {
             const Value& shells = r.count >= 2 ? f_.attribute(r, 1) : Value();
             for (uint32_t i = 0; shells.kind == Kind::List && i < uint32_t(shells.count); ++i)
@@ -112,6 +119,79 @@ private:
         }
         if (s.shells.empty()) problem(k, "a solid without a shell");
         out_.solids.push_back(std::move(s));
+    }
+
+    // TESSELLATED_SOLID / _SHELL(name, items, link): its TRIANGULATED_FACEs
+    // (name, coordinates, pnmax, normals, geometric_link, pnindex, triangles)
+    // and COMPLEX_TRIANGULATED_FACEs (..., pnindex, triangle_strips,
+    // triangle_fans). Indices count from 1, into pnindex where it is given,
+    // which counts into the coordinates; faces sharing a coordinates list share
+    // its points, so a closed tessellated shell meshes closed.
+    void tessellated(uint32_t k, const Record& r, GeometryReader& g, Triangles& out) {
+        if (r.count < 2 || f_.attribute(r, 1).kind != Kind::List) return;
+        const uint32_t plain = f_.type_id("TRIANGULATED_FACE"), complex = f_.type_id("COMPLEX_TRIANGULATED_FACE");
+        std::map<uint32_t, uint32_t> base_of;  // coordinates list -> its first point in `out`
+        const Value& items = f_.attribute(r, 1);
+        for (uint32_t i = 0; i < uint32_t(items.count); ++i) {
+            const uint32_t item = ref(f_.element(items, i));
+            const Record* face = item == kUnresolved ? nullptr : f_.record(item, plain);
+            const bool is_complex = !face && item != kUnresolved && (face = f_.record(item, complex)) != nullptr;
+            if (!face || face->count < (is_complex ? 8u : 7u)) {
+                problem(item == kUnresolved ? k : item, "a tessellated item that is not a TRIANGULATED_FACE: left out");
+                continue;
+            }
+            const uint32_t coordinates = ref(f_.attribute(*face, 1));
+            if (coordinates == kUnresolved) continue;
+            auto found = base_of.find(coordinates);
+            if (found == base_of.end()) {
+                found = base_of.emplace(coordinates, uint32_t(out.points.size())).first;
+                for (const Eigen::Vector3d& p : g.coordinates(coordinates)) out.points.push_back(p);
+            }
+            const uint32_t base = found->second;
+            const size_t count = out.points.size() - base;  // (lists read later come after: bounded below by base)
+            std::vector<int64_t> pnindex;
+            const Value& pn = f_.attribute(*face, 5);
+            for (uint32_t j = 0; pn.kind == Kind::List && j < uint32_t(pn.count); ++j)
+                pnindex.push_back(f_.element(pn, j).kind == Kind::Integer ? f_.element(pn, j).integer : 0);
+            bool bad = false;
+            auto point = [&](const Value& v, uint32_t& to) {
+                int64_t n = v.kind == Kind::Integer ? v.integer : 0;
+                if (!pnindex.empty()) n = n >= 1 && size_t(n) <= pnindex.size() ? pnindex[size_t(n - 1)] : 0;
+                if (n < 1 || size_t(n) > count) return bad = true, false;
+                to = base + uint32_t(n - 1);
+                return true;
+            };
+            auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+                if (a != b && b != c && a != c) out.triangles.push_back({a, b, c});
+            };
+            auto each_list = [&](const Value& lists, auto&& take) {
+                for (uint32_t j = 0; lists.kind == Kind::List && j < uint32_t(lists.count); ++j) {
+                    const Value& l = f_.element(lists, j);
+                    std::vector<uint32_t> ids;
+                    for (uint32_t m = 0; l.kind == Kind::List && m < uint32_t(l.count); ++m) {
+                        uint32_t id = 0;
+                        if (point(f_.element(l, m), id)) ids.push_back(id);
+                    }
+                    take(ids);
+                }
+            };
+            if (!is_complex) {
+                each_list(f_.attribute(*face, 6), [&](const std::vector<uint32_t>& t) {
+                    if (t.size() == 3) add(t[0], t[1], t[2]);
+                    else bad = true;
+                });
+            } else {
+                // A strip turns its every other triangle; a fan pivots on its first point.
+                each_list(f_.attribute(*face, 6), [&](const std::vector<uint32_t>& t) {
+                    for (size_t m = 2; m < t.size(); ++m)
+                        m % 2 == 0 ? add(t[m - 2], t[m - 1], t[m]) : add(t[m - 1], t[m - 2], t[m]);
+                });
+                each_list(f_.attribute(*face, 7), [&](const std::vector<uint32_t>& t) {
+                    for (size_t m = 2; m < t.size(); ++m) add(t[0], t[m - 1], t[m]);
+                });
+            }
+            if (bad) problem(item, "a triangle whose point index is outside its coordinates list: left out");
+        }
     }
 
     Shell shell(uint32_t k, GeometryReader& g) {

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,11 +60,20 @@ struct Shell {
     std::vector<uint32_t> faces;  // into Brep::faces
 };
 
+// AP242's tessellated geometry: the triangles as the file gives them.
+struct Triangles {
+    std::vector<Eigen::Vector3d> points;                  // metres
+    std::vector<std::array<uint32_t, 3>> triangles;      // counter-clockwise seen from outside
+};
+
 struct Solid {
     std::string name;
     uint32_t entity = kUnresolved;
-    std::string type;           // MANIFOLD_SOLID_BREP, BREP_WITH_VOIDS, FACETED_BREP, SHELL_BASED_SURFACE_MODEL
+    // MANIFOLD_SOLID_BREP, BREP_WITH_VOIDS, FACETED_BREP, SHELL_BASED_SURFACE_MODEL; or TESSELLATED_SOLID,
+    // TESSELLATED_SHELL (then `tessellated` holds its triangles and `shells` is empty)
+    std::string type;
     std::vector<Shell> shells;  // the outer one first, then voids
+    Triangles tessellated;
     ContextUnits units;
 };
 

@@ -118,6 +118,30 @@ Eigen::Vector3d GeometryReader::point(uint32_t entity) {
     return p;
 }
 
+std::vector<Eigen::Vector3d> GeometryReader::coordinates(uint32_t entity) {
+    std::vector<Eigen::Vector3d> out;
+    const Record* r = entity < f_.instances.size() ? f_.record(entity, f_.type_id("COORDINATES_LIST")) : nullptr;
+    if (!r || r->count < 3 || f_.attribute(*r, 2).kind != Kind::List) {
+        problem(entity, "expected a COORDINATES_LIST");
+        return out;
+    }
+    const Value& list = f_.attribute(*r, 2);
+    out.reserve(size_t(list.count));
+    for (uint32_t k = 0; k < uint32_t(list.count); ++k) {
+        const Value& xyz = f_.element(list, k);
+        Eigen::Vector3d p = Eigen::Vector3d::Constant(NAN);
+        if (xyz.kind == Kind::List && xyz.count == 3)
+            for (uint32_t d = 0; d < 3; ++d) p[d] = length(f_.element(xyz, d));
+        out.push_back(p);
+    }
+    for (const Eigen::Vector3d& p : out)
+        if (!p.allFinite()) {
+            problem(entity, "a COORDINATES_LIST with a point that is not three numbers");
+            break;
+        }
+    return out;
+}
+
 Eigen::Vector3d GeometryReader::direction(uint32_t entity) {
     if (!is(f_, entity, types_[kDirection])) {
         problem(entity, "expected a DIRECTION");

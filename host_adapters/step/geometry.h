@@ -74,6 +74,8 @@ public:
     Placement placement(uint32_t axis2_placement_3d);
     Curve curve(uint32_t entity);
     Surface surface(uint32_t entity);
+    // A COORDINATES_LIST's points (AP242's tessellated geometry), in metres.
+    std::vector<Eigen::Vector3d> coordinates(uint32_t coordinates_list);
 
     const File& file() const { return f_; }
 

@@ -835,6 +835,14 @@ std::vector<SolidMesh> tessellate(const Brep& b, const Tolerance& tolerance) {
             tol.chord = size > 0 ? tolerance.relative_chord * size : 1e-6;
         }
         m.chord = tol.chord;
+        if (!solid.tessellated.triangles.empty()) {
+            // AP242's own triangles: as the file gives them (its chord is the exporter's).
+            m.mesh.points = solid.tessellated.points;
+            m.mesh.triangles = solid.tessellated.triangles;
+            m.faces_meshed = 1;
+            out.push_back(std::move(m));
+            continue;
+        }
         SolidTessellator t(b, solid, tol, m);
         for (const Shell& sh : solid.shells)
             for (uint32_t f : sh.faces) t.face(b.faces[f], sh.reversed);

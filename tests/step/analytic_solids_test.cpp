@@ -17,6 +17,7 @@
 #include "host_adapters/step/tessellate.h"
 #include "tests/common/near.h"
 #include "tests/common/step_solids.h"
+#include "tests/step/step_test_support.h"
 
 namespace MBX_UNITY_ID {
 
@@ -149,6 +150,54 @@ TEST_CASE("step analytic solids: a cone's semi-angle read in degrees where the f
     CHECK(a[0].volume == mbx_test::relative(exact, 1e-4));
     CHECK(b[0].volume == mbx_test::relative(a[0].volume, 1e-9));
     CHECK(b[0].closed);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("step tessellated geometry: AP242 triangulated faces, strips and fans make the closed solid they describe") {
+    // A 20 x 10 x 5 mm box: 8 corners in one coordinates list (mm), its six sides as
+    // two TRIANGULATED_FACEs (one through a pnindex) and a COMPLEX_TRIANGULATED_FACE
+    // with a strip and a fan.
+    const std::string data =
+        "#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n"
+        "#2=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
+        "#3=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#1,#2))REPRESENTATION_CONTEXT('',''));\n"
+        "#10=COORDINATES_LIST('',8,((0.,0.,0.),(20.,0.,0.),(0.,10.,0.),(20.,10.,0.),(0.,0.,5.),(20.,0.,5.),(0.,10.,5.),(20.,10.,5.)));\n"
+        // bottom (z = 0, normal -z) and top (z = 5, normal +z)
+        "#11=TRIANGULATED_FACE('bottom and top',#10,0,(),$,(),((1,3,2),(2,3,4),(5,6,8),(5,8,7)));\n"
+        // y = 0 (normal -y) through a pnindex that lists corners 1, 2, 5, 6
+        "#12=TRIANGULATED_FACE('front',#10,0,(),$,(1,2,5,6),((1,2,4),(1,4,3)));\n"
+        // y = 10 (normal +y) as a strip 3,7,4,8; x = 0 and x = 20 as fans
+        "#13=COMPLEX_TRIANGULATED_FACE('rest',#10,0,(),$,(),((3,7,4,8)),((1,5,7,3),(2,4,8,6)));\n"
+        "#20=TESSELLATED_SOLID('box',(#11,#12,#13),$);\n"
+        "#30=TESSELLATED_SHAPE_REPRESENTATION('',(#20),#3);\n";
+    const File f = read_part21(step_test::wrap(data, "AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF"), "tess.stp");
+    const Brep b = read_breps(f);
+    for (const Problem& p : b.problems) FAIL_CHECK("#" << p.entity << ": " << p.message);
+    REQUIRE(b.solids.size() == 1);
+    CHECK(b.solids[0].type == "TESSELLATED_SOLID");
+    const std::vector<SolidMesh> m = tessellate(b, Tolerance{});
+    REQUIRE(m.size() == 1);
+    CHECK(m[0].mesh.triangles.size() == 12);
+    std::vector<uint32_t> flat;
+    double six = 0;
+    for (const auto& t : m[0].mesh.triangles) {
+        flat.insert(flat.end(), t.begin(), t.end());
+        six += m[0].mesh.points[t[0]].dot(m[0].mesh.points[t[1]].cross(m[0].mesh.points[t[2]]));
+    }
+    CHECK(mbx::check_closure(flat).closed);
+    CHECK(six / 6 == mbx_test::relative(0.02 * 0.01 * 0.005, 1e-12));  // outward and in metres
+
+    // A triangle pointing past its coordinates list: left out, and said.
+    const std::string broken = std::string(data).replace(data.find("(2,3,4)"), 7, "(2,3,9)");
+    const Brep bad = read_breps(read_part21(step_test::wrap(broken), "bad.stp"));
+    REQUIRE(bad.solids.size() == 1);
+    CHECK(bad.solids[0].tessellated.triangles.size() == 11);
+    bool said = false;
+    for (const Problem& p : bad.problems) said = said || (p.entity == 11 && p.message.find("outside") != std::string::npos);
+    CHECK(said);
 }
 
 }  // namespace MBX_UNITY_ID
