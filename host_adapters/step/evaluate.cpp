@@ -393,13 +393,13 @@ Eigen::Vector2d surface_periods(const Surface& s) {
         case Surface::Kind::Cone:
         case Surface::Kind::Sphere:
         case Surface::Kind::Revolution:
-            return {kTwoPi, 0};
+            return {kTwoPi, (s.swept.empty() ? 0.0 : curve_period(s.swept[0]))};  // (a circle swept round: a torus, periodic both ways)
         case Surface::Kind::Torus:
             return {kTwoPi, kTwoPi};
         case Surface::Kind::BSpline:
             return {s.spline.period_u, s.spline.period_v};
         case Surface::Kind::Extrusion:
-            return {curve_period(s.swept[0]), 0};
+            return {(s.swept.empty() ? 0.0 : curve_period(s.swept[0])), 0};
         default:
             return {0, 0};
     }

@@ -148,6 +148,33 @@ public:
                face({{{{b, true}}, true}, {{{t, false}}, false}}, mantle, true)});
     }
 
+    // A ring about z swept by a SURFACE_OF_REVOLUTION of a circle (radius r,
+    // centred R from the axis): a torus, as the halves above and below.
+    void revolved_ring(double R, double r) {
+        const int outer = circle_edge(R + r, 0), inner = circle_edge(R - r, 0);
+        // The profile in the xz plane, running from the outside up over the top.
+        const int profile = add("CIRCLE('',#" + std::to_string(axis({R, 0, 0}, -Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX())) +
+                                "," + length(r) + ")");
+        const int about = add("AXIS1_PLACEMENT('',#" + std::to_string(point({0, 0, 0})) + ",#" +
+                              std::to_string(direction(Eigen::Vector3d::UnitZ())) + ")");
+        const int surface = add("SURFACE_OF_REVOLUTION('',#" + std::to_string(profile) + ",#" + std::to_string(about) + ")");
+        solid({face({{{{outer, true}}, true}, {{{inner, false}}, false}}, surface, true),
+               face({{{{outer, false}}, true}, {{{inner, true}}, false}}, surface, true)});
+    }
+
+    // A cylinder along z whose mantle is a SURFACE_OF_LINEAR_EXTRUSION of its base circle.
+    void extruded_cylinder(double R, double h) {
+        const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+        const int b = circle_edge(R, 0), t = circle_edge(R, h);
+        const int base = add("CIRCLE('',#" + std::to_string(axis({0, 0, 0}, z, Eigen::Vector3d::UnitX())) + "," + length(R) + ")");
+        const int sweep = add("VECTOR('',#" + std::to_string(direction(z)) + "," + length(h) + ")");
+        const int mantle = add("SURFACE_OF_LINEAR_EXTRUSION('',#" + std::to_string(base) + ",#" + std::to_string(sweep) + ")");
+        const int bottom = add("PLANE('',#" + std::to_string(axis({0, 0, 0}, -z, Eigen::Vector3d::UnitX())) + ")");
+        const int top = add("PLANE('',#" + std::to_string(axis({0, 0, h}, z, Eigen::Vector3d::UnitX())) + ")");
+        solid({face({{{{b, false}}, true}}, bottom, true), face({{{{t, true}}, true}}, top, true),
+               face({{{{b, true}}, true}, {{{t, false}}, false}}, mantle, true)});
+    }
+
     // The whole file: the solids written so far in one shape representation.
     std::string file() const {
         std::string units;

@@ -6,6 +6,7 @@
 // 'METRE' are one solid, and a cone's semi-angle reads right in degrees.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -75,7 +76,7 @@ void check_exact(const Meshed& m, double volume, double area) {
 
 }  // namespace
 
-TEST_CASE("step analytic solids: box, tube, sphere, torus, frustum and B-spline plane and cylinder have their exact volumes") {
+TEST_CASE("step analytic solids: box, tube, sphere, torus, frustum, B-spline plane and cylinder, revolution and extrusion have their exact volumes") {
     const double pi = M_PI;
     StepSolidWriter w;
     w.box(Vector3d(-0.01, 0.02, 0.005), Vector3d(0.03, 0.05, 0.012));
@@ -85,8 +86,10 @@ TEST_CASE("step analytic solids: box, tube, sphere, torus, frustum and B-spline 
     w.frustum(0.02, 0.008, 0.03);
     w.spline_cylinder(0.012, 0.04);
     w.box(Vector3d(0, 0, 0), Vector3d(0.04, 0.02, 0.01), true);
+    w.revolved_ring(0.025, 0.006);
+    w.extruded_cylinder(0.011, 0.03);
     const std::vector<Meshed> m = mesh_all(w.file());
-    REQUIRE(m.size() == 7);
+    REQUIRE(m.size() == 9);
     check_exact(m[0], 0.04 * 0.03 * 0.007, 2 * (0.04 * 0.03 + 0.03 * 0.007 + 0.04 * 0.007));
     check_exact(m[1], pi * (0.02 * 0.02 - 0.008 * 0.008) * 0.035,
                 2 * pi * (0.02 + 0.008) * 0.035 + 2 * pi * (0.02 * 0.02 - 0.008 * 0.008));
@@ -102,12 +105,14 @@ TEST_CASE("step analytic solids: box, tube, sphere, torus, frustum and B-spline 
     CHECK(m[4].centroid.z() == mbx_test::within(zc, 1e-4 * h, "1e-4 of the height"));
     check_exact(m[5], pi * 0.012 * 0.012 * 0.04, 2 * pi * 0.012 * 0.04 + 2 * pi * 0.012 * 0.012);
     check_exact(m[6], 0.04 * 0.02 * 0.01, 2 * (0.04 * 0.02 + 0.02 * 0.01 + 0.04 * 0.01));
+    check_exact(m[7], 2 * pi * pi * 0.025 * 0.006 * 0.006, 4 * pi * pi * 0.025 * 0.006);
+    check_exact(m[8], pi * 0.011 * 0.011 * 0.03, 2 * pi * 0.011 * 0.03 + 2 * pi * 0.011 * 0.011);
     // A looser tolerance still keeps the bound (and meshes with fewer triangles).
     Tolerance loose;
     loose.relative_chord = 1e-3;
     loose.angle = M_PI / 18;
     const std::vector<Meshed> coarse = mesh_all(w.file(), loose);
-    REQUIRE(coarse.size() == 7);
+    REQUIRE(coarse.size() == 9);
     CHECK(coarse[2].triangles < m[2].triangles / 4);
     CHECK(coarse[2].closed);
     CHECK(coarse[2].volume == mbx_test::within(4.0 / 3 * pi * std::pow(0.015, 3), coarse[2].chord * 4 * pi * 0.015 * 0.015,
@@ -198,6 +203,54 @@ TEST_CASE("step tessellated geometry: AP242 triangulated faces, strips and fans 
     bool said = false;
     for (const Problem& p : bad.problems) said = said || (p.entity == 11 && p.message.find("outside") != std::string::npos);
     CHECK(said);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("step tessellation of bad solids: a shell with a face missing stays open, a degenerate face is a finding") {
+    StepSolidWriter w;
+    w.box(Vector3d(0, 0, 0), Vector3d(0.02, 0.01, 0.005));
+    std::string text = w.file();
+    // The box's shell without its first face: meshed, and open where the face was.
+    const size_t shell = text.find("CLOSED_SHELL('',(#");
+    REQUIRE(shell != std::string::npos);
+    const size_t first = text.find('#', shell), comma = text.find(',', first);
+    text.erase(first, comma - first + 1);
+    const Brep open_box = read_breps(read_part21(text, "open.step"));
+    REQUIRE(open_box.solids.size() == 1);
+    const std::vector<SolidMesh> m = tessellate(open_box, Tolerance{});
+    REQUIRE(m.size() == 1);
+    CHECK(m[0].faces_meshed == 5);
+    std::vector<uint32_t> flat;
+    for (const auto& t : m[0].mesh.triangles) flat.insert(flat.end(), t.begin(), t.end());
+    const mbx::MeshClosure closure = mbx::check_closure(flat);
+    CHECK_FALSE(closure.closed);
+    CHECK(closure.boundary_edges == 4);  // the missing face's rim
+
+    // A plane face bounded by two edges between the same two points (no area):
+    // not meshed, and the finding names the face's entity and line.
+    const std::string data =
+        "#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n"
+        "#2=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#1))REPRESENTATION_CONTEXT('',''));\n"
+        "#3=CARTESIAN_POINT('',(0.,0.,0.));\n#4=CARTESIAN_POINT('',(10.,0.,0.));\n"
+        "#5=VERTEX_POINT('',#3);\n#6=VERTEX_POINT('',#4);\n#7=DIRECTION('',(1.,0.,0.));\n#8=VECTOR('',#7,10.);\n"
+        "#9=LINE('',#3,#8);\n#10=EDGE_CURVE('',#5,#6,#9,.T.);\n#11=EDGE_CURVE('',#6,#5,#9,.F.);\n"
+        "#12=ORIENTED_EDGE('',*,*,#10,.T.);\n#13=ORIENTED_EDGE('',*,*,#11,.T.);\n#14=EDGE_LOOP('',(#12,#13));\n"
+        "#15=FACE_OUTER_BOUND('',#14,.T.);\n#16=DIRECTION('',(0.,0.,1.));\n#17=AXIS2_PLACEMENT_3D('',#3,#16,#7);\n"
+        "#18=PLANE('',#17);\n#19=ADVANCED_FACE('',(#15),#18,.T.);\n#20=CLOSED_SHELL('',(#19));\n"
+        "#21=MANIFOLD_SOLID_BREP('',#20);\n#22=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#21),#2);\n";
+    const std::string file = step_test::wrap(data);
+    const Brep flat_face = read_breps(read_part21(file, "flat.step"));
+    const std::vector<SolidMesh> none = tessellate(flat_face, Tolerance{});
+    REQUIRE(none.size() == 1);
+    CHECK(none[0].faces_failed == 1);
+    CHECK(none[0].mesh.triangles.empty());
+    REQUIRE(none[0].problems.size() == 1);
+    CHECK(none[0].problems[0].entity == 19);
+    CHECK(none[0].problems[0].line == int(std::count(file.begin(), file.begin() + long(file.find("#19=")), '\n')) + 1);
+    CHECK(none[0].problems[0].message.find("face not meshed") != std::string::npos);
 }
 
 }  // namespace MBX_UNITY_ID
