@@ -5,7 +5,8 @@
 // bare pass over the bytes (counting ';') as the floor. Then the whole way
 // from file to triangles at one chord and angle tolerance: mbx's read, B-rep,
 // placement and tessellation against OpenCASCADE's read, transfer and
-// BRepMesh_IncrementalMesh, with the triangle counts each makes.
+// BRepMesh_IncrementalMesh, with the triangle counts each makes; and the cost
+// of files of 1 to 256 solids, per solid.
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRep_Tool.hxx>
 #include <Poly_Triangulation.hxx>
@@ -33,6 +34,7 @@
 #include "host_adapters/step/assembly.h"
 #include "host_adapters/step/part21.h"
 #include "host_adapters/step/tessellate.h"
+#include "tests/common/step_solids.h"
 
 namespace {
 
@@ -132,6 +134,23 @@ int main(int argc, char** argv) {
         });
         std::printf("%-34s %9.4f %9.1f %10zu %9.2f %10.1f %10zu %6.1fx\n", path.substr(path.rfind('/') + 1).c_str(),
                     chord * 1e3, ours, ours_triangles, double(ours_triangles) / ours / 1e3, occt, occt_triangles, occt / ours);
+    }
+    // Cost against size: files of 1 to 256 tubes (written by the tests' STEP
+    // writer), read and meshed at the default tolerance; linear cost keeps the
+    // time per solid flat.
+    std::printf("\n%-34s %9s %9s %10s %12s\n", "tubes in one file", "MB", "mbx ms", "triangles", "ms per tube");
+    for (int tubes : {1, 4, 16, 64, 256}) {
+        mbx_test::StepSolidWriter writer;
+        for (int k = 0; k < tubes; ++k) writer.tube(0.02, 0.008, 0.05 * k, 0.05 * k + 0.035);
+        const std::string text = writer.file();
+        size_t triangles = 0;
+        const double ms = best_ms(2, [&] {
+            const mbx_step::File f = mbx_step::read_part21(text, "tubes.step");
+            triangles = 0;
+            for (const mbx_step::SolidMesh& m : mbx_step::tessellate(mbx_step::read_breps(f), mbx_step::Tolerance{}))
+                triangles += m.mesh.triangles.size();
+        });
+        std::printf("%-34d %9.3f %9.1f %10zu %12.3f\n", tubes, double(text.size()) / 1e6, ms, triangles, ms / tubes);
     }
     return 0;
 }

@@ -254,3 +254,37 @@ TEST_CASE("step tessellation of bad solids: a shell with a face missing stays op
 }
 
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("step faceted B-rep: a tetrahedron of poly loops meshes closed with its exact volume") {
+    // Faces in four different planes, each bounded by a POLY_LOOP (no surface given).
+    const std::string data =
+        "#1=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n"
+        "#3=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#1))REPRESENTATION_CONTEXT('',''));\n"
+        "#10=CARTESIAN_POINT('',(0.,0.,0.));\n#11=CARTESIAN_POINT('',(30.,0.,0.));\n"
+        "#12=CARTESIAN_POINT('',(0.,20.,0.));\n#13=CARTESIAN_POINT('',(0.,0.,10.));\n"
+        "#20=POLY_LOOP('',(#10,#12,#11));\n#21=POLY_LOOP('',(#10,#11,#13));\n"
+        "#22=POLY_LOOP('',(#10,#13,#12));\n#23=POLY_LOOP('',(#11,#12,#13));\n"
+        "#30=FACE_OUTER_BOUND('',#20,.T.);\n#31=FACE_OUTER_BOUND('',#21,.T.);\n"
+        "#32=FACE_OUTER_BOUND('',#22,.T.);\n#33=FACE_OUTER_BOUND('',#23,.T.);\n"
+        "#40=FACE('',(#30));\n#41=FACE('',(#31));\n#42=FACE('',(#32));\n#43=FACE('',(#33));\n"
+        "#50=CLOSED_SHELL('',(#40,#41,#42,#43));\n#51=FACETED_BREP('tet',#50);\n"
+        "#60=FACETED_BREP_SHAPE_REPRESENTATION('',(#51),#3);\n";
+    const Brep b = read_breps(read_part21(step_test::wrap(data), "tet.stp"));
+    REQUIRE(b.solids.size() == 1);
+    const std::vector<SolidMesh> m = tessellate(b, Tolerance{});
+    REQUIRE(m.size() == 1);
+    CHECK(m[0].problems.empty());
+    CHECK(m[0].mesh.triangles.size() == 4);
+    std::vector<uint32_t> flat;
+    double six = 0;
+    for (const auto& t : m[0].mesh.triangles) {
+        flat.insert(flat.end(), t.begin(), t.end());
+        six += m[0].mesh.points[t[0]].dot(m[0].mesh.points[t[1]].cross(m[0].mesh.points[t[2]]));
+    }
+    CHECK(mbx::check_closure(flat).closed);
+    CHECK(six / 6 == mbx_test::relative(0.03 * 0.02 * 0.01 / 6, 1e-12));
+}
+
+}  // namespace MBX_UNITY_ID
