@@ -161,8 +161,11 @@ private:
                 to = base + uint32_t(n - 1);
                 return true;
             };
+            // (a corner that is not a number was a problem of the coordinates list: its triangles are left out)
             auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
-                if (a != b && b != c && a != c) out.triangles.push_back({a, b, c});
+                if (a != b && b != c && a != c && out.points[a].allFinite() && out.points[b].allFinite() &&
+                    out.points[c].allFinite())
+                    out.triangles.push_back({a, b, c});
             };
             auto each_list = [&](const Value& lists, auto&& take) {
                 for (uint32_t j = 0; lists.kind == Kind::List && j < uint32_t(lists.count); ++j) {

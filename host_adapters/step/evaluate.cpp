@@ -306,7 +306,10 @@ std::vector<Eigen::Vector3d> discretise(const Brep& b, const Edge& e, const Tole
             const double r = std::max(c.radius, c.kind == Curve::Kind::Ellipse ? c.radius2 : 0.0);
             double step = tol.angle;
             if (tol.chord < r) step = std::min(step, 2 * std::acos(1 - tol.chord / r));
-            const int n = std::max(closed ? 3 : 1, int(std::ceil(std::abs(sweep) / step - 1e-9)));
+            // (NaN from a point that is not one, or a count past any real edge's:
+            // bounded, so a malformed file cannot ask for billions of points)
+            const double segments = std::ceil(std::abs(sweep) / step - 1e-9);
+            const int n = std::max(closed ? 3 : 1, std::isfinite(segments) ? int(std::min(segments, 100000.0)) : 1);
             for (int k = 1; k < n; ++k) out.push_back(curve_point(c, t0 + sweep * k / n));
             return finish();
         }

@@ -334,6 +334,11 @@ public:
         for (auto& h : holes)
             for (UvPoint& p : h) p.uv = p.uv.cwiseProduct(scale_);
         const std::vector<UvPoint> polygon = bridge_holes(outer, holes);
+        for (const UvPoint& p : polygon)
+            if (!p.uv.allFinite() || !out_.mesh.points[p.point].allFinite()) {
+                fail(f, "a point of its bounds is not a number or has no parameters on its surface");
+                return;
+            }
         std::vector<std::array<uint32_t, 3>> positions;
         if (!ear_clip(polygon, positions)) {
             fail(f, "its bounds do not make a simple polygon in the surface's parameters");
@@ -360,6 +365,14 @@ public:
         std::vector<std::pair<uint32_t, uint32_t>> boundary;
         for (size_t k = 0; k < polygon.size(); ++k) boundary.emplace_back(node_at[k], node_at[(k + 1) % polygon.size()]);
         refine(s, tris, boundary);
+        // A point that is not one (a malformed coordinate, a surface that
+        // evaluates to NaN) makes the face a finding, never a mesh with NaN in it.
+        for (const auto& tn : tris)
+            for (uint32_t n : tn)
+                if (!out_.mesh.points[nodes_[n].point].allFinite()) {
+                    fail(f, "a point of it is not a number (see the geometry's problems)");
+                    return;
+                }
         const bool flip = flipped_uv != reversed;
         if (flipped_uv == f.same_sense) ++out_.sense_disagreements;
         for (const auto& tn : tris) {

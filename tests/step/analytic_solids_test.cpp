@@ -288,3 +288,29 @@ TEST_CASE("step faceted B-rep: a tetrahedron of poly loops meshes closed with it
 }
 
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("step tessellation of points that are not numbers: the faces they bound are findings, no NaN reaches a mesh") {
+    // (found by fuzz_step_mesh: a circle through a vertex without a coordinate
+    // asked for NaN segments, and such points reached the ear clipping's grid)
+    StepSolidWriter w;
+    w.tube(0.02, 0.008, 0, 0.03);
+    std::string text = w.file();
+    const size_t vertex = text.find("VERTEX_POINT('',#");
+    REQUIRE(vertex != std::string::npos);
+    const std::string point = "#" + text.substr(vertex + 17, text.find(')', vertex) - vertex - 17) + "=CARTESIAN_POINT('',(";
+    const size_t at = text.find(point);
+    REQUIRE(at != std::string::npos);
+    const size_t first = at + point.size();
+    text.replace(first, text.find(',', first) - first, "$");
+    const Brep b = read_breps(read_part21(text, "nan.step"));
+    CHECK_FALSE(b.problems.empty());  // the point without a coordinate is said
+    const std::vector<SolidMesh> m = tessellate(b, Tolerance{});
+    REQUIRE(m.size() == 1);
+    CHECK(m[0].faces_failed > 0);
+    for (const auto& t : m[0].mesh.triangles)
+        for (uint32_t corner : t) CHECK(m[0].mesh.points[corner].allFinite());
+}
+
+}  // namespace MBX_UNITY_ID
