@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -176,6 +177,12 @@ int run_translate(const std::vector<std::string>& args) {
     if (formats & MBX_EXPORT_MESHES) std::printf("meshes: %s/meshes/ and %s/scene.glb\n", out_dir.c_str(), out_dir.c_str());
     print_drives(c.mech);
     return strict && s.error_count > 0 ? 3 : 0;
+}
+
+bool parse_number(const std::string& text, double& out) {
+    char* end = nullptr;
+    out = std::strtod(text.c_str(), &end);
+    return end && !*end && !text.empty() && std::isfinite(out);
 }
 
 }  // namespace mbx_cli

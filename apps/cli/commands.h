@@ -16,4 +16,7 @@ int run_calibrate(const std::vector<std::string>& args);
 int run_view(const std::vector<std::string>& args);
 int run_geometry(const std::vector<std::string>& args);
 
+// An option's whole text as a finite number (no trailing characters).
+bool parse_number(const std::string& text, double& out);
+
 }  // namespace mbx_cli

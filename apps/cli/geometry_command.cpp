@@ -36,11 +36,6 @@ const char* kGeometryUsage =
     "  --relative-chord <f>  chord as a fraction of each solid's bounding-box diagonal (default 1e-5)\n"
     "  --angle <degrees>   largest turn of an edge segment (default 1)\n";
 
-bool positive_number(const std::string& text, double& out) {
-    char* end = nullptr;
-    out = std::strtod(text.c_str(), &end);
-    return end && *end == '\0' && !text.empty() && std::isfinite(out) && out > 0;
-}
 
 }  // namespace
 
@@ -59,7 +54,7 @@ int run_geometry(const std::vector<std::string>& args) {
         } else if (a == "--format" && has_value) {
             format_name = args[++i];
         } else if ((a == "--chord" || a == "--relative-chord" || a == "--angle") && has_value) {
-            if (!positive_number(args[++i], value) || (a == "--relative-chord" && value >= 0.1) ||
+            if (!parse_number(args[++i], value) || !(value > 0) || (a == "--relative-chord" && value >= 0.1) ||
                 (a == "--angle" && value > 90)) {
                 std::fprintf(stderr, "mbx geometry: %s takes a positive number%s, not '%s'\n", a.c_str(),
                              a == "--angle" ? " of degrees up to 90" : a == "--relative-chord" ? " below 0.1" : "",

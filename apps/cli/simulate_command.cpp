@@ -39,12 +39,6 @@ const std::string kSimulateUsage = std::string(
     ".wx .wy .wz; a floating body .x .y .z .qw .qx .qy .qz .vx .vy .vz .wx .wy .wz), then per drive .target,\n"
     ".u, .current and .effort. A run that fails writes nothing and says why (exit code 1).\n";
 
-bool parse_number(const std::string& text, double& out) {
-    char* end = nullptr;
-    out = std::strtod(text.c_str(), &end);
-    return end && !*end && !text.empty() && std::isfinite(out);
-}
-
 bool parse_positive(const std::string& option, const std::string& text, double& out) {
     if (parse_number(text, out) && out > 0) return true;
     std::fprintf(stderr, "mbx simulate: %s needs a positive number (got '%s')\n", option.c_str(), text.c_str());

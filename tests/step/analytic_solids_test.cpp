@@ -45,21 +45,17 @@ std::vector<Meshed> mesh_all(const std::string& text, const Tolerance& tolerance
     for (const SolidMesh& m : tessellate(b, tolerance)) {
         for (const Problem& p : m.problems) FAIL_CHECK("#" << p.entity << ": " << p.message);
         Meshed r;
-        std::vector<uint32_t> flat;
-        double six = 0;
-        for (const auto& t : m.mesh.triangles) {
-            flat.insert(flat.end(), t.begin(), t.end());
-            six += m.mesh.points[t[0]].dot(m.mesh.points[t[1]].cross(m.mesh.points[t[2]]));
-        }
+        const step_test::FlatMesh flat = step_test::flatten(m.mesh);
         mbx::SolidAccumulator acc;
-        acc.add(m.mesh.points, flat);
+        acc.add(m.mesh.points, flat.indices);
         r.volume = acc.result().volume;
         r.centroid = acc.result().centroid;
-        r.signed_volume = six / 6;
+        r.signed_volume = flat.signed_volume;
         r.chord = m.chord;
         r.triangles = m.mesh.triangles.size();
         r.points = m.mesh.points.size();
-        r.closed = mbx::check_closure(flat).closed && mbx::find_self_intersections(m.mesh.points, flat).count == 0;
+        r.closed = mbx::check_closure(flat.indices).closed &&
+                   mbx::find_self_intersections(m.mesh.points, flat.indices).count == 0;
         r.problems = m.problems.size();
         out.push_back(r);
     }
@@ -186,14 +182,9 @@ TEST_CASE("step tessellated geometry: AP242 triangulated faces, strips and fans 
     const std::vector<SolidMesh> m = tessellate(b, Tolerance{});
     REQUIRE(m.size() == 1);
     CHECK(m[0].mesh.triangles.size() == 12);
-    std::vector<uint32_t> flat;
-    double six = 0;
-    for (const auto& t : m[0].mesh.triangles) {
-        flat.insert(flat.end(), t.begin(), t.end());
-        six += m[0].mesh.points[t[0]].dot(m[0].mesh.points[t[1]].cross(m[0].mesh.points[t[2]]));
-    }
-    CHECK(mbx::check_closure(flat).closed);
-    CHECK(six / 6 == mbx_test::relative(0.02 * 0.01 * 0.005, 1e-12));  // outward and in metres
+    const step_test::FlatMesh flat = step_test::flatten(m[0].mesh);
+    CHECK(mbx::check_closure(flat.indices).closed);
+    CHECK(flat.signed_volume == mbx_test::relative(0.02 * 0.01 * 0.005, 1e-12));  // outward and in metres
 
     // A triangle pointing past its coordinates list: left out, and said.
     const std::string broken = std::string(data).replace(data.find("(2,3,4)"), 7, "(2,3,9)");
@@ -223,9 +214,7 @@ TEST_CASE("step tessellation of bad solids: a shell with a face missing stays op
     const std::vector<SolidMesh> m = tessellate(open_box, Tolerance{});
     REQUIRE(m.size() == 1);
     CHECK(m[0].faces_meshed == 5);
-    std::vector<uint32_t> flat;
-    for (const auto& t : m[0].mesh.triangles) flat.insert(flat.end(), t.begin(), t.end());
-    const mbx::MeshClosure closure = mbx::check_closure(flat);
+    const mbx::MeshClosure closure = mbx::check_closure(step_test::flatten(m[0].mesh).indices);
     CHECK_FALSE(closure.closed);
     CHECK(closure.boundary_edges == 4);  // the missing face's rim
 
@@ -277,14 +266,9 @@ TEST_CASE("step faceted B-rep: a tetrahedron of poly loops meshes closed with it
     REQUIRE(m.size() == 1);
     CHECK(m[0].problems.empty());
     CHECK(m[0].mesh.triangles.size() == 4);
-    std::vector<uint32_t> flat;
-    double six = 0;
-    for (const auto& t : m[0].mesh.triangles) {
-        flat.insert(flat.end(), t.begin(), t.end());
-        six += m[0].mesh.points[t[0]].dot(m[0].mesh.points[t[1]].cross(m[0].mesh.points[t[2]]));
-    }
-    CHECK(mbx::check_closure(flat).closed);
-    CHECK(six / 6 == mbx_test::relative(0.03 * 0.02 * 0.01 / 6, 1e-12));
+    const step_test::FlatMesh flat = step_test::flatten(m[0].mesh);
+    CHECK(mbx::check_closure(flat.indices).closed);
+    CHECK(flat.signed_volume == mbx_test::relative(0.03 * 0.02 * 0.01 / 6, 1e-12));
 }
 
 }  // namespace MBX_UNITY_ID

@@ -86,30 +86,23 @@ void check_file(const std::string& path) {
     // No mesh folds through itself (each solid once, however often placed).
     for (const SolidMesh& m : meshes) {
         CAPTURE(m.name);
-        std::vector<uint32_t> flat;
-        for (const auto& t : m.mesh.triangles) flat.insert(flat.end(), t.begin(), t.end());
-        CHECK(mbx::find_self_intersections(m.mesh.points, flat).count == 0);
+        CHECK(mbx::find_self_intersections(m.mesh.points, step_test::flatten(m.mesh).indices).count == 0);
     }
     std::vector<Measured> solids;
     for (const PlacedSolid& ps : placed.solids) {
         const SolidMesh& m = meshes[ps.solid];
         CAPTURE(m.name);
         for (const Problem& p : m.problems) FAIL_CHECK("#" << p.entity << " (line " << p.line << "): " << p.message);
-        std::vector<uint32_t> flat;
-        double six_volume = 0;
-        for (const auto& t : m.mesh.triangles) {
-            flat.insert(flat.end(), t.begin(), t.end());
-            six_volume += m.mesh.points[t[0]].dot(m.mesh.points[t[1]].cross(m.mesh.points[t[2]]));
-        }
-        const mbx::MeshClosure closure = mbx::check_closure(flat);
+        const step_test::FlatMesh flat = step_test::flatten(m.mesh);
+        const mbx::MeshClosure closure = mbx::check_closure(flat.indices);
         CHECK(closure.closed);
         CHECK(closure.boundary_edges == 0);
         CHECK(closure.nonmanifold_edges == 0);
         mbx::SolidAccumulator acc;
-        acc.add(m.mesh.points, flat);
+        acc.add(m.mesh.points, flat.indices);
         const mbx::SolidProperties props = acc.result();
         const Eigen::Matrix3d R = ps.pose.linear();
-        solids.push_back({props.volume, six_volume / 6, ps.pose * props.centroid,
+        solids.push_back({props.volume, flat.signed_volume, ps.pose * props.centroid,
                           R * props.inertia_per_density * R.transpose(), ps.product + " " + ps.occurrence});
     }
     // The mesh lies on the surface within its chord tolerance (sampled),

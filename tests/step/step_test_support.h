@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "host_adapters/step/tessellate.h"
 #include "tests/common/skip.h"
 
 namespace step_test {
@@ -18,6 +19,25 @@ namespace step_test {
 inline std::string wrap(const std::string& data, const std::string& schema = "AUTOMOTIVE_DESIGN") {
     return "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('','',(''),(''),'','','');\n"
            "FILE_SCHEMA(('" + schema + "'));\nENDSEC;\nDATA;\n" + data + "ENDSEC;\nEND-ISO-10303-21;\n";
+}
+
+// A mesh's triangles as one index list (what core/geometry takes) and the
+// volume it encloses, signed: positive when its normals face out.
+struct FlatMesh {
+    std::vector<uint32_t> indices;
+    double signed_volume = 0;
+};
+
+inline FlatMesh flatten(const mbx_step::TriangleMesh& m) {
+    FlatMesh out;
+    out.indices.reserve(3 * m.triangles.size());
+    double six = 0;
+    for (const auto& t : m.triangles) {
+        out.indices.insert(out.indices.end(), t.begin(), t.end());
+        six += m.points[t[0]].dot(m.points[t[1]].cross(m.points[t[2]]));
+    }
+    out.signed_volume = six / 6;
+    return out;
 }
 
 struct OracleSolid {
