@@ -408,6 +408,38 @@ Eigen::Vector2d surface_periods(const Surface& s) {
     }
 }
 
+namespace {
+
+// Newton's method for the foot of q on a B-spline surface from t: the
+// parameters clamped to the knot range where the surface is not periodic.
+Vector2d spline_foot(const BSpline& b, const Eigen::Vector3d& q, Vector2d t, int iterations, double precision = 0) {
+    const double u0 = spline_range(b, false).first, u1 = spline_range(b, false).second;
+    const double v0 = spline_range(b, true).first, v1 = spline_range(b, true).second;
+    for (int k = 0; k < iterations; ++k) {
+        Eigen::Vector3d du, dv;
+        spline_derivatives(b, t.x(), t.y(), du, dv);
+        const Eigen::Vector3d r = spline_point(b, t.x(), t.y()) - q;
+        Eigen::Matrix2d J;
+        J << du.dot(du), du.dot(dv), du.dot(dv), dv.dot(dv);
+        const Vector2d g(du.dot(r), dv.dot(r));
+        if (!(std::abs(J.determinant()) > 0)) break;
+        const Vector2d step = J.ldlt().solve(g);
+        t -= step;
+        if (!(b.period_u > 0)) t.x() = std::clamp(t.x(), u0, u1);
+        if (!(b.period_v > 0)) t.y() = std::clamp(t.y(), v0, v1);
+        if (step.norm() < 1e-15 * std::max(1.0, std::max(u1 - u0, v1 - v0))) break;
+        if ((du * step.x() + dv * step.y()).norm() < precision) break;
+    }
+    return t;
+}
+
+}  // namespace
+
+Eigen::Vector2d surface_foot(const Surface& s, const Eigen::Vector3d& q, const Eigen::Vector2d& start, double precision) {
+    if (s.kind == Surface::Kind::BSpline) return spline_foot(s.spline, q, start, 8, precision);
+    return surface_parameters(s, q, &start);
+}
+
 Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, const Eigen::Vector2d* near) {
     const Placement& f = s.frame;
     const Eigen::Vector3d d = q - f.origin;
@@ -480,23 +512,7 @@ Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, c
             // (plain doubles: a lambda may not capture structured bindings in C++17)
             const double u0 = spline_range(b, false).first, u1 = spline_range(b, false).second;
             const double v0 = spline_range(b, true).first, v1 = spline_range(b, true).second;
-            auto newton = [&](Vector2d t) {
-                for (int k = 0; k < 30; ++k) {
-                    Eigen::Vector3d du, dv;
-                    spline_derivatives(b, t.x(), t.y(), du, dv);
-                    const Eigen::Vector3d r = spline_point(b, t.x(), t.y()) - q;
-                    Eigen::Matrix2d J;
-                    J << du.dot(du), du.dot(dv), du.dot(dv), dv.dot(dv);
-                    const Vector2d g(du.dot(r), dv.dot(r));
-                    if (!(std::abs(J.determinant()) > 0)) break;
-                    const Vector2d step = J.ldlt().solve(g);
-                    t -= step;
-                    if (!(b.period_u > 0)) t.x() = std::clamp(t.x(), u0, u1);
-                    if (!(b.period_v > 0)) t.y() = std::clamp(t.y(), v0, v1);
-                    if (step.norm() < 1e-15 * std::max(1.0, std::max(u1 - u0, v1 - v0))) break;
-                }
-                return t;
-            };
+            auto newton = [&](const Vector2d& t) { return spline_foot(b, q, t, 30); };
             // From the neighbour's parameters first (a loop's next point is
             // close); the grid search only when that does not land on q.
             if (near) {

@@ -27,6 +27,10 @@ struct Tolerance {
     double chord = 0;               // metres; 0: relative to the solid's size
     double relative_chord = 1e-5;   // of the solid's size, when chord is 0
     double angle = kTwoPi / 360;    // radians (1 degree)
+    // What refining one face may add (memory stays bounded on a tolerance
+    // far finer than a face needs); a face that would need more is meshed
+    // coarser, with a finding.
+    size_t face_triangle_budget = 4'000'000;
 
     // A fixed chord in metres and an angle in radians.
     static Tolerance absolute(double chord_m, double angle_rad) {
@@ -68,6 +72,11 @@ std::vector<Eigen::Vector3d> discretise(const Brep& b, const Edge& e, const Tole
 // revolution, the result taken nearest to `near` when given.
 Eigen::Vector3d surface_point(const Surface& s, double u, double v);
 Eigen::Vector2d surface_parameters(const Surface& s, const Eigen::Vector3d& q, const Eigen::Vector2d* near = nullptr);
+// The (u, v) of a point of the surface near q found from `start` without a
+// global search (a B-spline's Newton steps, until a step moves less than
+// `precision` metres; the others' closed form): its distance from q bounds
+// q's distance from the surface from above.
+Eigen::Vector2d surface_foot(const Surface& s, const Eigen::Vector3d& q, const Eigen::Vector2d& start, double precision);
 // The periods of u and v (0: not periodic).
 Eigen::Vector2d surface_periods(const Surface& s);
 

@@ -364,7 +364,10 @@ public:
         for (const auto& t : positions) tris.push_back({node_at[t[0]], node_at[t[1]], node_at[t[2]]});
         std::vector<std::pair<uint32_t, uint32_t>> boundary;
         for (size_t k = 0; k < polygon.size(); ++k) boundary.emplace_back(node_at[k], node_at[(k + 1) % polygon.size()]);
-        refine(s, tris, boundary);
+        if (!refine(s, tris, boundary))
+            out_.problems.push_back({f.line, f.id,
+                                     "face meshed coarser than the chord tolerance: its refinement stopped at " +
+                                         std::to_string(tris.size()) + " triangles"});
         // A point that is not one (a malformed coordinate, a surface that
         // evaluates to NaN) makes the face a finding, never a mesh with NaN in it.
         for (const auto& tn : tris)
@@ -688,6 +691,24 @@ private:
         check.clear();
     }
 
+    // How far q (a point of the mesh) lies from the surface about uv (in
+    // the scaled parameter plane, where q's triangle or edge spans `reach`).
+    // The surface's point at uv bounds it from above, and is the answer
+    // where it already lies within the tolerance; otherwise q's foot point
+    // (beside a bound, the surface at uv may lie far from a triangle that
+    // is close to it: a bound's straight line in uv is not its curve),
+    // unless that foot lies elsewhere on the surface than q's own piece of
+    // it (a chord across most of a turn ends near the surface again).
+    double off_surface(const Surface& s, const Vector3d& q, const Vector2d& uv, double reach) const {
+        const Vector2d at = uv.cwiseQuotient(scale_);
+        const double at_uv = (surface_point(s, at.x(), at.y()) - q).norm();
+        if (!(at_uv > tol_.chord)) return at_uv;
+        const Vector2d foot = surface_foot(s, q, at, 0.01 * tol_.chord);
+        if (!foot.allFinite() || (foot - at).cwiseProduct(scale_).norm() > 0.25 * reach) return at_uv;
+        const double d = (surface_point(s, foot.x(), foot.y()) - q).norm();
+        return std::isfinite(d) ? std::min(d, at_uv) : at_uv;
+    }
+
     // Lawson's flips to the constrained Delaunay triangulation (in the scaled
     // parameter plane: triangles as far from slivers as the bounds allow; a
     // sliver split at its middle folds over on a curved surface), then the
@@ -695,33 +716,41 @@ private:
     // tolerance split, each split legalised, until none is. The polygon's
     // edges are never split: they are the edges' discretisation, shared with
     // the neighbouring faces.
-    void refine(const Surface& s, std::vector<std::array<uint32_t, 3>>& tris,
+    // Returns false where the refinement stopped at its budget short of the tolerance.
+    bool refine(const Surface& s, std::vector<std::array<uint32_t, 3>>& tris,
                 const std::vector<std::pair<uint32_t, uint32_t>>& polygon_edges) {
+        bool within = true;
         Adjacent m = connect(tris, polygon_edges);
         std::vector<std::pair<int32_t, int>> check;
         for (size_t t = 0; t < m.tri.size(); ++t)
             for (int k = 0; k < 3; ++k) check.push_back({int32_t(t), k});
         legalise(m, check);
         if (s.kind != Surface::Kind::Plane) {
-            const size_t limit = m.tri.size() * 64 + 200000;
+            const size_t limit = m.tri.size() + tol_.face_triangle_budget;
             auto to_surface = [&](const Vector2d& uv) { return surface_point(s, uv.x() / scale_.x(), uv.y() / scale_.y()); };
-            // A polygon edge is a straight line in uv but its curve is not: the
-            // surface at its uv middle may lie farther from its chord than the
-            // tolerance, and no inner split can mend that (an inner edge beside
-            // it would be split for ever). So an inner edge from a boundary node
-            // is allowed what the polygon edges at that node show.
+            // A polygon edge is the chord of its curve, within the tolerance of
+            // the curve but maybe not of this surface (an exporter's curve lies
+            // only within its own tolerance of the surface): a triangle on it
+            // is allowed what the edge shows, else no split beside it would end.
             std::vector<double> allowance(nodes_.size(), 0.0);
             for (const auto& [a, b] : polygon_edges) {
                 if (nodes_[a].point == nodes_[b].point) continue;
-                const double e = (to_surface(0.5 * (nodes_[a].uv + nodes_[b].uv)) - 0.5 * (on_surface_[a] + on_surface_[b])).norm();
+                const double e = off_surface(s, 0.5 * (on_surface_[a] + on_surface_[b]), 0.5 * (nodes_[a].uv + nodes_[b].uv),
+                                             (nodes_[a].uv - nodes_[b].uv).norm());
                 allowance[a] = std::max(allowance[a], e);
                 allowance[b] = std::max(allowance[b], e);
             }
-            auto allowance_at = [&](uint32_t n) { return n < allowance.size() ? allowance[n] : 0.0; };
+            auto allowed = [&](const std::array<uint32_t, 3>& t) {
+                double e = 0;
+                for (uint32_t n : t)
+                    if (n < allowance.size()) e = std::max(e, allowance[n]);
+                return std::max(tol_.chord, e);
+            };
             // Each round looks only at the edges of triangles the last one
             // made or changed: the others were within the tolerance already.
             m.touched.assign(m.tri.size(), 1);
-            for (int round = 0; round < 40 && m.tri.size() < limit; ++round) {
+            within = false;
+            for (int round = 0; round < 60 && m.tri.size() < limit; ++round) {
                 std::vector<std::pair<int32_t, int>> split;
                 std::vector<char> touched(m.tri.size(), 0);
                 std::swap(touched, m.touched);
@@ -733,19 +762,48 @@ private:
                         const uint32_t na = m.tri[t][size_t(k)], nb = m.tri[t][size_t((k + 1) % 3)];
                         const UvPoint &a = nodes_[na], &b = nodes_[nb];
                         if (a.point == b.point) continue;
-                        // (the chord between the surface's points at the ends' uv: an
-                        // edge point lies only within the exporter's tolerance of
-                        // the surface, which no splitting near it would remove)
-                        const Vector3d chord = 0.5 * (on_surface_[na] + on_surface_[nb]);
                         // From a pole (a cone's apex, a sphere's pole) the surface
                         // runs along the other end's u: a pole node's own u says nothing.
                         Vector2d mid = 0.5 * (a.uv + b.uv);
                         if (pole_node(s, a)) mid.x() = b.uv.x();
                         else if (pole_node(s, b)) mid.x() = a.uv.x();
-                        const double allowed = std::max(tol_.chord, 2 * std::max(allowance_at(na), allowance_at(nb)));
-                        if ((to_surface(mid) - chord).norm() > allowed) split.push_back({int32_t(t), k});
+                        // (the chord between the surface's points at the ends' uv: an
+                        // edge point lies only within the exporter's tolerance of
+                        // the surface, which no splitting near it would remove)
+                        const Vector3d middle = 0.5 * (on_surface_[na] + on_surface_[nb]);
+                        if (off_surface(s, middle, mid, (a.uv - b.uv).norm()) > allowed({na, nb, na})) split.push_back({int32_t(t), k});
                     }
-                if (split.empty()) break;
+                // Edge middles within the chord still leave a triangle's
+                // inside up to 4/3 of it away (a sphere, an equilateral
+                // triangle): its centroid is checked too. Its longest edge is
+                // split, or where that is the polygon's, a node put at its
+                // centroid (a shorter edge split beside a straight run of the
+                // bounds halves towards it into slivers).
+                std::vector<std::pair<int32_t, std::array<uint32_t, 3>>> centres;
+                for (size_t t = 0; t < m.tri.size(); ++t) {
+                    if (!touched[t]) continue;
+                    const auto& tri = m.tri[t];
+                    Vector3d centroid = Vector3d::Zero();
+                    double longest_uv = 0;
+                    int longest = 0;
+                    for (int k = 0; k < 3; ++k) {
+                        centroid += on_surface_[tri[size_t(k)]] / 3;
+                        const double l = (nodes_[tri[size_t(k)]].uv - nodes_[tri[size_t((k + 1) % 3)]].uv).norm();
+                        if (l > longest_uv) longest_uv = l, longest = k;
+                    }
+                    if (off_surface(s, centroid, centre_uv(s, tri), longest_uv) <= allowed(tri)) continue;
+                    if (m.adj[t][size_t(longest)] >= 0) split.push_back({int32_t(t), longest});
+                    else centres.push_back({int32_t(t), tri});
+                }
+                if (split.empty() && centres.empty()) {
+                    within = true;
+                    break;
+                }
+                for (const auto& [t0, tri] : centres) {
+                    if (m.tri[size_t(t0)] != tri) continue;  // changed by an earlier insertion's flips
+                    insert_centre(m, t0, centre_uv(s, tri), to_surface, check);
+                    legalise(m, check);
+                }
                 for (const auto& [t0, k0] : split) {
                     // The edge may have moved with earlier splits' flips: found again by its ends.
                     const uint32_t a = m.tri[size_t(t0)][size_t(k0)], b = m.tri[size_t(t0)][size_t((k0 + 1) % 3)];
@@ -757,6 +815,46 @@ private:
             }
         }
         tris = m.tri;
+        return within;
+    }
+
+    // A triangle's middle in the (scaled) parameter plane; a pole corner's u
+    // says nothing (the surface runs along the other corners' u there).
+    Vector2d centre_uv(const Surface& s, const std::array<uint32_t, 3>& tri) const {
+        Vector2d centre = Vector2d::Zero();
+        double u = 0;
+        int off_pole = 0;
+        for (uint32_t n : tri) {
+            centre += nodes_[n].uv / 3;
+            if (!pole_node(s, nodes_[n])) u += nodes_[n].uv.x(), ++off_pole;
+        }
+        if (off_pole > 0 && off_pole < 3) centre.x() = u / off_pole;
+        return centre;
+    }
+
+    // (a, b, c) becomes (a, b, n), (b, c, n), (c, a, n) with n at uv.
+    template <class ToSurface>
+    void insert_centre(Adjacent& m, int32_t t, const Vector2d& uv, const ToSurface& to_surface,
+                       std::vector<std::pair<int32_t, int>>& check) {
+        const auto [a, b, c] = m.tri[size_t(t)];
+        const auto [x0, x1, x2] = m.adj[size_t(t)];
+        const uint32_t n = uint32_t(nodes_.size());
+        const Vector3d p = to_surface(uv);
+        nodes_.push_back({uv, add_point(p)});
+        on_surface_.push_back(p);
+        const int32_t t2 = int32_t(m.tri.size()), t3 = t2 + 1;
+        m.tri[size_t(t)] = {a, b, n};
+        m.adj[size_t(t)] = {x0, t2, t3};
+        m.tri.push_back({b, c, n});
+        m.adj.push_back({x1, t3, t});
+        m.tri.push_back({c, a, n});
+        m.adj.push_back({x2, t, t2});
+        repoint(m, x1, t, t2);
+        repoint(m, x2, t, t3);
+        mark(m, t), mark(m, t2), mark(m, t3);
+        check.push_back({t, 0});
+        check.push_back({t2, 0});
+        check.push_back({t3, 0});
     }
 
     template <class ToSurface>

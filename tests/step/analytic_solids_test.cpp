@@ -298,3 +298,90 @@ TEST_CASE("step tessellation of points that are not numbers: the faces they boun
 }
 
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+namespace {
+
+// The farthest any triangle's centroid or any edge's middle lies from the
+// exact surface (distance given by the caller), in chords.
+template <class Distance>
+double farthest_in_chords(const SolidMesh& m, const Distance& distance) {
+    double worst = 0;
+    for (const auto& t : m.mesh.triangles) {
+        const Vector3d a = m.mesh.points[t[0]], b = m.mesh.points[t[1]], c = m.mesh.points[t[2]];
+        for (const Vector3d& p : {Vector3d((a + b + c) / 3), Vector3d((a + b) / 2), Vector3d((b + c) / 2), Vector3d((c + a) / 2)})
+            worst = std::max(worst, distance(p) / m.chord);
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("step tessellation: every triangle's middle and every edge's middle lie within the chord of the exact sphere, torus, tube and cone") {
+    StepSolidWriter w;
+    const Vector3d centre(0.1, -0.02, 0.03);
+    w.sphere(0.015, centre);
+    w.torus(0.03, 0.007);
+    w.tube(0.02, 0.008, -0.01, 0.025);
+    w.frustum(0.02, 0.008, 0.03);
+    const File f = read_part21(w.file(), "analytic.step");
+    const Brep b = read_breps(f);
+    // At the default tolerance, and at a coarse one where the triangles are large.
+    Tolerance coarse;
+    coarse.relative_chord = 1e-3;
+    coarse.angle = M_PI / 12;
+    for (const Tolerance& tolerance : {Tolerance{}, coarse}) {
+        const std::vector<SolidMesh> m = tessellate(b, tolerance);
+        REQUIRE(m.size() == 4);
+        for (const SolidMesh& s : m) REQUIRE(s.problems.empty());
+        // (planar faces lie exactly on their planes; the curved ones are measured)
+        const double sphere = farthest_in_chords(m[0], [&](const Vector3d& p) { return std::abs((p - centre).norm() - 0.015); });
+        const double torus = farthest_in_chords(m[1], [](const Vector3d& p) {
+            return std::abs(std::hypot(std::hypot(p.x(), p.y()) - 0.03, p.z()) - 0.007);
+        });
+        const double tube = farthest_in_chords(m[2], [](const Vector3d& p) {
+            const double rho = std::hypot(p.x(), p.y());
+            const bool on_cap = std::abs(p.z() + 0.01) < 1e-12 || std::abs(p.z() - 0.025) < 1e-12;
+            return on_cap ? 0.0 : std::min(std::abs(rho - 0.02), std::abs(rho - 0.008));
+        });
+        // The frustum's side runs from radius 0.02 at z = 0 to 0.008 at z = 0.03.
+        const double slant = std::hypot(0.012, 0.03);
+        const double frustum = farthest_in_chords(m[3], [&](const Vector3d& p) {
+            if (std::abs(p.z()) < 1e-12 || std::abs(p.z() - 0.03) < 1e-12) return 0.0;
+            return std::abs((std::hypot(p.x(), p.y()) - (0.02 - 0.4 * p.z())) * 0.03 / slant);
+        });
+        MESSAGE("farthest in chords: sphere " << sphere << ", torus " << torus << ", tube " << tube << ", frustum " << frustum);
+        CHECK(sphere <= 1.0);
+        CHECK(torus <= 1.0);
+        CHECK(tube <= 1.0);
+        CHECK(frustum <= 1.0);
+    }
+}
+
+TEST_CASE("step tessellation: a face that would need more triangles than the budget is meshed coarser, closed, with a finding naming it") {
+    StepSolidWriter w;
+    w.sphere(0.015, Vector3d::Zero());
+    const File f = read_part21(w.file(), "analytic.step");
+    const Brep b = read_breps(f);
+    Tolerance tight;
+    tight.face_triangle_budget = 500;
+    const std::vector<SolidMesh> m = tessellate(b, tight);
+    REQUIRE(m.size() == 1);
+    // Both hemispheres stop at their budget; each is named by its entity and line.
+    REQUIRE(m[0].problems.size() == 2);
+    for (const Problem& p : m[0].problems) {
+        CHECK(p.message.find("coarser than the chord tolerance") != std::string::npos);
+        CHECK(p.line > 0);
+        bool is_face = false;
+        for (const Face& face : b.faces) is_face = is_face || face.id == p.entity;
+        CHECK(is_face);
+    }
+    // (a round of splits under way finishes: the budget is checked between rounds)
+    const size_t unlimited = tessellate(b, Tolerance{})[0].mesh.triangles.size();
+    CHECK(m[0].mesh.triangles.size() < unlimited / 4);
+    const step_test::FlatMesh flat = step_test::flatten(m[0].mesh);
+    CHECK(mbx::check_closure(flat.indices).closed);
+    CHECK(flat.signed_volume > 0);
+}
+
+}  // namespace MBX_UNITY_ID
