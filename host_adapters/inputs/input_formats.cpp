@@ -6,6 +6,8 @@
 
 #include "host_adapters/common/file_error.h"
 #include "host_adapters/pmxml_vrml/file_adapter.h"
+#include "host_adapters/simscape/simscape_adapter.h"
+#include "host_adapters/simscape/simscape_reader.h"
 #include "host_adapters/common/text.h"
 
 namespace mbx_files {
@@ -14,6 +16,10 @@ namespace {
 
 std::unique_ptr<FileInput> open_pmxml(const std::string& path, const FileInputOptions& options) {
     return FileAdapter::open(path, options);
+}
+
+std::unique_ptr<FileInput> open_simscape(const std::string& path, const FileInputOptions& options) {
+    return SimscapeAdapter::open(path, options);
 }
 
 std::string lower_extension(const std::string& path) {
@@ -87,6 +93,12 @@ const std::vector<InputFormat>& input_formats() {
          {"PhysicalModelingXMLFile"},
          true,
          open_pmxml},
+        {"simscape",
+         "Simscape Multibody second-generation import XML (Onshape, SolidWorks, Creo, Inventor), a STEP file per part",
+         {".xml"},
+         {kSimscapeRootElement, kSimMechanicsImportRootElement},
+         false,
+         open_simscape},
     };
     return formats;
 }

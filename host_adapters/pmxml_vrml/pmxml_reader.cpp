@@ -260,8 +260,8 @@ public:
         const std::string root_name = root.name();
         if (root_name == "SimMechanicsImportXML" || root_name == "SimscapeMultibodyImportXML")
             fail(root, "<" + root_name +
-                           "> is second-generation Simscape Multibody import XML, which is not supported; export "
-                           "first-generation Physical Modeling XML instead");
+                           "> is second-generation Simscape Multibody import XML, not first-generation Physical Modeling "
+                           "XML: open it as an input (mbx picks its reader by the root element)");
         if (root_name != "PhysicalModelingXMLFile")
             fail(root, "not a Physical Modeling XML file: the root element is <" + root_name +
                            ">, expected <PhysicalModelingXMLFile>");
