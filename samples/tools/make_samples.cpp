@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
                    {"double_cardan", mbx_samples::make_double_cardan},
                    {"five_axis_arm", mbx_samples::make_five_axis_arm},
                    {"joints_showcase", mbx_samples::make_joints_showcase},
-                   {"emps_axis", mbx_samples::make_emps_axis}};
+                   {"emps_axis", mbx_samples::make_emps_axis},
+                   {"double_pendulum_simscape", mbx_samples::make_double_pendulum_simscape}};
     try {
         for (const auto& s : samples) {
             const std::string dir = root + "/" + s.name;

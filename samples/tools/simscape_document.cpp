@@ -9,11 +9,6 @@
 namespace mbx_samples {
 namespace {
 
-std::string number(double x) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.17g", x == 0 ? 0.0 : x);
-    return buffer;
-}
 
 std::string escaped(const std::string& s) {
     std::string out;
@@ -31,6 +26,12 @@ class Writer {
 public:
     explicit Writer(const SimscapeXmlDocument& d) : d_(d) {}
 
+    std::string number(double x) const {
+        char buffer[40];
+        std::snprintf(buffer, sizeof buffer, "%.*g", d_.digits, x == 0 ? 0.0 : x);
+        return buffer;
+    }
+
     std::string run() {
         out_ += "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n";
         out_ += "<SimscapeMultibodyImportXML xmlns=\"urn:mathworks:SimscapeMultibody:import\" version=\"2.0\">\n";
@@ -44,7 +45,7 @@ public:
         for (const SimscapeXmlInstance& i : d_.instances) instance(i, 3);
         out_ += "      </InstanceTree>\n";
         out_ += "      <Constraints/>\n";
-        joints(d_.joints, 3);
+        joints(d_.joints, 2);
         out_ += "   </RootAssembly>\n";
         if (!d_.assemblies.empty()) {
             out_ += "   <Assemblies>\n";

@@ -50,6 +50,7 @@ struct SimscapeXmlDocument {
     std::string length_unit = "meter", mass_unit = "kilogram";
     double per_metre = 1, per_kilogram = 1;
     bool write_data_units = true;
+    int digits = 17;  // significant digits written (exporters print 9 or 10)
     std::string root_name, root_uid;
     std::vector<SimscapeXmlPart> parts;
     std::vector<SimscapeXmlAssembly> assemblies;

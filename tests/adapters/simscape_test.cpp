@@ -21,6 +21,7 @@
 #include "host_adapters/simscape/simscape_reader.h"
 #include "samples/tools/simscape_document.h"
 #include "tests/common/near.h"
+#include "tests/common/shared_data.h"
 #include "translation_support.h"
 
 namespace MBX_UNITY_ID {
@@ -413,6 +414,57 @@ TEST_CASE("simscape: the input table picks the adapter by the root element, what
     CHECK(t.status() == MBX_OK);
     // (the base is the ground; the second link and the tip are one rigid group)
     CHECK(t.summary().rigid_body_count == 2);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("simscape sample: the DFKI double pendulum on its real STEP levers is the analytic double pendulum, its shapes match its mass properties") {
+    const std::string steps = mbx_test::shared_data("step/dfki_double_pendulum");
+    mbx_files::FileInputOptions options;
+    options.mesh_dirs = {steps};
+    const auto adapter =
+        mbx_files::SimscapeAdapter::open(std::string(MBX_SAMPLES_DIR) + "/double_pendulum_simscape/double_pendulum.xml", options);
+    const mbx_files::SimscapeModel& m = adapter->model();
+    REQUIRE(m.parts.size() == 3);
+    CHECK(adapter->geometry_files().size() == 2);
+    // Both hinges along the world's y axis: a planar double pendulum. Only
+    // each lever's inertia about its own hinge axis (the levers' z) and its
+    // centre of mass in the swing plane enter its mass matrix.
+    const mbx_files::SimscapePart& a = m.parts[1];
+    const mbx_files::SimscapePart& b = m.parts[2];
+    const Eigen::Vector2d c1 = a.com.head<2>(), c2 = b.com.head<2>(), l1(0.2, 0);
+    const double I1 = a.inertia(2, 2) + a.mass * c1.squaredNorm(), I2 = b.inertia(2, 2) + b.mass * c2.squaredNorm();
+    atest::Translation t(adapter->table(), MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES);
+    REQUIRE(t.status() == MBX_OK);
+    mbx_context* ctx = t.context();
+    mbx_sim_model* model = nullptr;
+    mbx_sim_data* data = nullptr;
+    REQUIRE(mbx_sim_model_create(ctx, t.mechanism(), nullptr, &model) == MBX_OK);
+    REQUIRE(mbx_sim_data_create(ctx, model, &data) == MBX_OK);
+    uint32_t shoulder = 0, elbow = 0;
+    REQUIRE(mbx_sim_model_find_joint(model, "shoulder", &shoulder) == MBX_OK);
+    REQUIRE(mbx_sim_model_find_joint(model, "elbow", &elbow) == MBX_OK);
+    for (double q2 : {0.0, 0.7, -2.1, 3.0}) {
+        CAPTURE(q2);
+        const double q[2] = {shoulder == 0 ? 0.4 : q2, shoulder == 0 ? q2 : 0.4}, v[2] = {0, 0};
+        REQUIRE(mbx_sim_set_state(ctx, data, 0, q, v) == MBX_OK);
+        double M[4];
+        REQUIRE(mbx_sim_mass_matrix(ctx, data, M) == MBX_OK);
+        const Eigen::Vector2d turned = Eigen::Rotation2Dd(q2) * c2;
+        const double coupling = b.mass * l1.dot(turned);
+        const double M11 = I1 + I2 + b.mass * l1.squaredNorm() + 2 * coupling, M12 = I2 + coupling, M22 = I2;
+        CHECK(M[shoulder * 2 + shoulder] == mbx_test::relative(M11, 1e-12));
+        CHECK(M[shoulder * 2 + elbow] == mbx_test::relative(M12, 1e-12));
+        CHECK(M[elbow * 2 + elbow] == mbx_test::relative(M22, 1e-12));
+    }
+    mbx_sim_data_destroy(data);
+    mbx_sim_model_destroy(model);
+    // Each lever's STEP solid was read and its centroid agrees with the XML's centre of mass.
+    CHECK(t.mesh_total() == 2);
+    CHECK(t.count(MBX_FINDING_MASS_MISMATCH) == 0);
+    CHECK(t.count(MBX_FINDING_HOST_DIAGNOSTIC) == 0);
 }
 
 }  // namespace MBX_UNITY_ID

@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "samples/tools/samples.h"
+#include "tests/common/skip.h"
 #include "temp_dir.h"
 
 namespace MBX_UNITY_ID {
@@ -52,5 +53,11 @@ TEST_CASE("committed samples match mbx_make_samples") {
     check_folder("five_axis_arm", mbx_samples::make_five_axis_arm);
     check_folder("joints_showcase", mbx_samples::make_joints_showcase);
     check_folder("emps_axis", mbx_samples::make_emps_axis);
+}
+
+TEST_CASE("committed Simscape sample matches mbx_make_samples (its levers are the real STEP parts in ../shared)") {
+    if (!fs::exists(fs::path(MBX_SAMPLES_DIR) / "../../shared/data/step/dfki_double_pendulum/lever_200.STEP"))
+        MBX_SKIP("no ../shared/data/step/dfki_double_pendulum beside the repository");
+    check_folder("double_pendulum_simscape", mbx_samples::make_double_pendulum_simscape);
 }
 }  // namespace MBX_UNITY_ID
