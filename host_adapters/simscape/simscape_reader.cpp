@@ -319,16 +319,25 @@ private:
 
 }  // namespace
 
-SimscapeModel parse_simscape(std::string_view text, const std::string& file) {
+namespace {
+
+// Parses `text` in place (it is the reader's own copy): pugixml's offsets
+// are then those of the file, and nothing is copied again.
+SimscapeModel parse_owned(std::string& text, const std::string& file) {
     const LineIndex lines(text);
     pugi::xml_document doc;
-    // (a copy pugixml parses in place: offsets stay those of the text)
     const pugi::xml_parse_result parsed =
-        doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
+        doc.load_buffer_inplace(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
     if (!parsed)
-        throw FileError(file, lines.line_of(parsed.offset),
-                        std::string("not well-formed XML: ") + parsed.description());
+        throw FileError(file, lines.line_of(parsed.offset), std::string("not well-formed XML: ") + parsed.description());
     return Reader(lines, file).run(doc);
+}
+
+}  // namespace
+
+SimscapeModel parse_simscape(std::string_view text, const std::string& file) {
+    std::string copy(text);
+    return parse_owned(copy, file);
 }
 
 SimscapeModel read_simscape(const std::string& path) {
@@ -338,9 +347,12 @@ SimscapeModel read_simscape(const std::string& path) {
                         std::filesystem::exists(path, ec) ? "cannot read it: not a regular file" : "no such file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path, 0, std::string("cannot open the file: ") + std::strerror(errno));
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw FileError(path, 0, "cannot read the file");
-    return parse_simscape(text, path);
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw FileError(path, 0, "cannot read the file: " + ec.message());
+    std::string text(size_t(size), '\0');
+    in.read(text.data(), std::streamsize(size));
+    if (size_t(in.gcount()) != size) throw FileError(path, 0, "cannot read the file");
+    return parse_owned(text, path);
 }
 
 }  // namespace mbx_files

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import mbx
-from conftest import ARM_WRL, ARM_XML, SAMPLES
+from conftest import ARM_WRL, ARM_XML, SAMPLES, SHARED_DATA
 
 
 def test_version_matches_the_header():
@@ -106,3 +106,21 @@ def test_closed_mechanism_refuses_use():
     m.close()
     with pytest.raises(mbx.MbxError):
         m.summary
+
+
+def test_simscape_double_pendulum_on_its_step_levers():
+    """The second-generation Simscape sample through the same call: its
+    levers' STEP files from ../shared, both hinges along the world's y."""
+    steps = SHARED_DATA / "step" / "dfki_double_pendulum"
+    if not (steps / "lever_200.STEP").exists():
+        pytest.skip(f"no {steps}")
+    with mbx.translate(SAMPLES / "double_pendulum_simscape" / "double_pendulum.xml", mesh_dirs=[steps]) as m:
+        s = m.summary
+        assert (s.rigid_body_count, s.revolute_count, s.loop_count, s.dof) == (2, 2, 0, 2)
+        assert (s.warning_count, s.error_count) == (0, 0)
+        assert [j.constraint_id for j in m.joints] == ["shoulder", "elbow"]
+        for j in m.joints:
+            assert np.allclose(np.abs(j.axis), [0, 1, 0], atol=1e-12)
+        assert np.allclose(m.joints[1].position, [-0.0, 0.0642, -0.2], atol=1e-12)
+        assert [b.name for b in m.rigid_bodies[1:]] == ["lever_200 <1>", "lever_300 <1>"]
+        assert abs(m.rigid_bodies[1].mass - 0.67087) < 1e-12
