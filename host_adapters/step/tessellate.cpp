@@ -329,7 +329,7 @@ public:
         for (auto& h : holes)
             if (signed_area(h) > 0) std::reverse(h.begin(), h.end());
         // A parameter plane scaled to lengths, so that ears are judged by shape.
-        scale_ = parameter_scale(s, outer);
+        scale_ = parameter_scale(s, outer).cwiseQuotient(stretch(s, outer));
         for (UvPoint& p : outer) p.uv = p.uv.cwiseProduct(scale_);
         for (auto& h : holes)
             for (UvPoint& p : h) p.uv = p.uv.cwiseProduct(scale_);
@@ -569,6 +569,28 @@ private:
         if (s.kind == Surface::Kind::Cone) return -s.radius / std::tan(s.semi_angle);
         (void)mean;
         return NAN;
+    }
+
+    // How much longer a triangle may be along u and along v than across,
+    // for the chord to be met with fewer triangles: along a cylinder's or a
+    // cone's straight lines the surface does not curve, and round a torus's
+    // major circle it curves less than round its minor one (the chord
+    // allows edges in proportion to 1/sqrt(curvature)). Capped, since long
+    // triangles meet the bounds' short segments at poor angles.
+    static Vector2d stretch(const Surface& s, const std::vector<UvPoint>& loop) {
+        constexpr double kMost = 4;
+        if (s.kind == Surface::Kind::Cylinder || s.kind == Surface::Kind::Cone) return {1, kMost};
+        if (s.kind == Surface::Kind::Torus && s.minor_radius > 0) {
+            double v = 0;
+            for (const UvPoint& p : loop) v += p.uv.y();
+            v /= double(std::max<size_t>(loop.size(), 1));
+            // Normal curvatures round the major circle and round the minor one.
+            const double across = std::abs(std::cos(v)) / std::max(std::abs(s.radius + s.minor_radius * std::cos(v)), 1e-300);
+            const double around = 1 / s.minor_radius;
+            const double ratio = across > 0 ? std::sqrt(around / across) : kMost;
+            return {std::clamp(ratio, 1.0, kMost), 1};
+        }
+        return {1, 1};
     }
 
     // Lengths per unit of u and of v about the face.

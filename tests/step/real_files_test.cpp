@@ -57,7 +57,7 @@ std::string gunzipped(const std::string& gz, const std::string& package, const m
 // centroids and longest edges' middles of some triangles, spread over every
 // placed solid, with the chord each was meshed at.
 void sample_mesh(const std::vector<SolidMesh>& meshes, const Assembly& placed, size_t per_solid,
-                 std::vector<Eigen::Vector3d>& points, std::vector<double>& chords) {
+                 std::vector<Eigen::Vector3d>& points, std::vector<double>& chords, std::vector<double>& reach) {
     for (const PlacedSolid& ps : placed.solids) {
         const SolidMesh& m = meshes[ps.solid];
         const size_t n = m.mesh.triangles.size();
@@ -70,6 +70,8 @@ void sample_mesh(const std::vector<SolidMesh>& meshes, const Assembly& placed, s
             points.push_back(ps.pose * mid);
             chords.push_back(m.chord);
             chords.push_back(m.chord);
+            reach.push_back(std::max({ab, bc, ca}));
+            reach.push_back(std::max({ab, bc, ca}));
         }
     }
 }
@@ -106,19 +108,28 @@ void check_file(const std::string& path) {
                           R * props.inertia_per_density * R.transpose(), ps.product + " " + ps.occurrence});
     }
     // The mesh lies on the surface within its chord tolerance (sampled),
-    // measured by OpenCASCADE on the exact faces.
+    // measured by OpenCASCADE on the exact faces: refinement holds every
+    // edge's middle and every triangle's centroid within the chord. Beside
+    // an edge whose curve the exporter left off a face's surface (by the
+    // edge's tolerance in OpenCASCADE: 0.4 µm, 20 times the file's stated
+    // uncertainty, on linkrods.step's fillets), the mesh shares the edge's
+    // points with both faces, and that gap comes on top.
     {
         std::vector<Eigen::Vector3d> points;
-        std::vector<double> chords;
-        sample_mesh(meshes, placed, std::max<size_t>(4, 240 / std::max<size_t>(placed.solids.size(), 1)), points, chords);
+        std::vector<double> chords, reach;
+        sample_mesh(meshes, placed, std::max<size_t>(4, 240 / std::max<size_t>(placed.solids.size(), 1)), points, chords,
+                    reach);
         mbx_test::TempDir scratch;
-        const std::vector<double> distance = step_test::occt_distances(path, points, scratch.file("points.txt"));
-        double worst = 0;
-        for (size_t k = 0; k < points.size(); ++k) worst = std::max(worst, distance[k] / chords[k]);
-        MESSAGE(path << ": " << points.size() << " mesh points, the farthest " << worst << " chords from the surface");
-        // Refinement holds every edge's middle and every triangle's centroid
-        // within the chord of the surface.
-        CHECK(worst <= 1.0);
+        const std::vector<step_test::OcctDistance> d =
+            step_test::occt_distances(path, points, scratch.file("points.txt"), reach);
+        double worst = 0, worst_beyond_gaps = 0;
+        for (size_t k = 0; k < points.size(); ++k) {
+            worst = std::max(worst, d[k].distance / chords[k]);
+            worst_beyond_gaps = std::max(worst_beyond_gaps, (d[k].distance - d[k].gap) / chords[k]);
+        }
+        MESSAGE(path << ": " << points.size() << " mesh points, the farthest " << worst
+                     << " chords from the surface, " << worst_beyond_gaps << " beyond the file's own gaps");
+        CHECK(worst_beyond_gaps <= 1.0);
     }
     const step_test::Oracle oracle = step_test::occt(path);
     REQUIRE(solids.size() == oracle.solids.size());

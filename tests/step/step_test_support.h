@@ -81,27 +81,35 @@ inline Oracle occt(const std::string& path) {
 }
 
 // OpenCASCADE's distance from each point (metres, in the file's frame) to
-// the nearest face of the file's shape.
-inline std::vector<double> occt_distances(const std::string& path, const std::vector<Eigen::Vector3d>& points,
-                                          const std::string& scratch) {
+// the nearest face of the file's shape, and the file's own gap there: the
+// largest tolerance OpenCASCADE gives an edge within `reach` of the point
+// (0 where none is given).
+struct OcctDistance {
+    double distance = 0, gap = 0;
+};
+
+inline std::vector<OcctDistance> occt_distances(const std::string& path, const std::vector<Eigen::Vector3d>& points,
+                                                const std::string& scratch, const std::vector<double>& reach = {}) {
 #ifndef MBX_STEP_ORACLE
-    (void)path, (void)points, (void)scratch;
+    (void)path, (void)points, (void)scratch, (void)reach;
     throw mbx_test::SkipTest{"OpenCASCADE was not found when this build was configured (bash .ci/install-deps)"};
 #else
     {
         FILE* out = std::fopen(scratch.c_str(), "w");
         REQUIRE(out != nullptr);
-        for (const Eigen::Vector3d& p : points) std::fprintf(out, "%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+        for (size_t k = 0; k < points.size(); ++k)
+            std::fprintf(out, "%.17g %.17g %.17g %.17g\n", points[k].x(), points[k].y(), points[k].z(),
+                         k < reach.size() ? reach[k] : 0.0);
         std::fclose(out);
     }
     FILE* pipe = ::popen(("ASAN_OPTIONS=detect_leaks=0 " + std::string(MBX_STEP_ORACLE) + " '" + path + "' --distance '" +
                           scratch + "'").c_str(), "r");
     REQUIRE(pipe != nullptr);
-    std::vector<double> d;
+    std::vector<OcctDistance> d;
     char line[256];
-    double x = 0;
+    OcctDistance x;
     while (std::fgets(line, sizeof line, pipe))
-        if (std::sscanf(line, "distance %lf", &x) == 1) d.push_back(x);
+        if (std::sscanf(line, "distance %lf gap %lf", &x.distance, &x.gap) == 2) d.push_back(x);
     REQUIRE(::pclose(pipe) == 0);
     REQUIRE(d.size() == points.size());
     return d;
