@@ -4,6 +4,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "mate_inference.h"
 #include "simscape_joint_types.h"
 
 namespace mbx_files {
@@ -243,11 +244,115 @@ private:
             }
             a_.constraints.push_back(std::move(c));
         }
-        if (!mech.mates.empty() && mech.joints.empty())
-            diagnostic(MBX_SEVERITY_ERROR, "simscape_mates_only", MBX_SUBJECT_FILE, m_.file,
-                       scope < 0 ? m_.root_name : names_[size_t(scope)], mech.mates.front().line,
-                       std::to_string(mech.mates.size()) +
-                           " mates and no joints: mbx does not yet infer joints from mates, so the parts stay unjoined");
+        if (!mech.mates.empty() && mech.joints.empty()) joints_from_mates(mech, scope, prefix);
+    }
+
+    // Where an export gives mates and no joints (SolidWorks, Creo, Inventor):
+    // the mates between each pair of parts make one joint (mate_inference.h).
+    // A mate's geometry is given in its instance's frame, as a joint frame is.
+    void joints_from_mates(const SimscapeMechanism& mech, int scope, const std::string& prefix) {
+        struct Pair {
+            int base = -1, follower = -1;
+            std::vector<Mate> mates;
+            std::vector<const SimscapeMate*> source;
+        };
+        std::map<std::pair<int, int>, Pair> pairs;
+        std::vector<std::pair<int, int>> order;  // pairs in the file's order
+        double length = 0;
+        for (const SimscapeInstance& in : m_.instances) length = std::max(length, in.world.translation().norm());
+        length = std::max(2 * length, 1e-3);
+        for (const SimscapeMate& mate : mech.mates) {
+            const std::string who = mate.type + " mate '" + mate.name + "'";
+            if (mate.geometry.size() != 2) {
+                diagnostic(MBX_SEVERITY_WARNING, "simscape_mate_unread", MBX_SUBJECT_FILE, m_.file, mate.name, mate.line,
+                           who + " has " + std::to_string(mate.geometry.size()) +
+                               " geometries where two belong; it is left out");
+                continue;
+            }
+            int body[2];
+            Mate m;
+            m.type = mate.type;
+            m.name = mate.name;
+            m.line = mate.line;
+            bool ok = true;
+            for (int k = 0; k < 2 && ok; ++k) {
+                const SimscapeMateGeometry& g = mate.geometry[size_t(k)];
+                Eigen::Isometry3d world;
+                std::string why;
+                body[k] = g.at.path.empty() ? -1 : resolve(g.at, scope, world, why);
+                if (body[k] < 0) {
+                    diagnostic(MBX_SEVERITY_WARNING, "simscape_mate_unread", MBX_SUBJECT_FILE, m_.file, mate.name, g.line,
+                               who + ": " + (why.empty() ? std::string("a geometry names no instance") : why) +
+                                   "; it is left out");
+                    ok = false;
+                    break;
+                }
+                // The geometry in the instance's frame (the path's transform, usually none, before it).
+                const Eigen::Isometry3d at = world;
+                MateGeometry& out = k == 0 ? m.first : m.second;
+                out.type = g.geom_type;
+                out.position = at * g.position;
+                out.axis = at.linear() * g.axis;
+            }
+            if (!ok) continue;
+            if (body[0] == body[1]) {
+                diagnostic(MBX_SEVERITY_WARNING, "simscape_mate_unread", MBX_SUBJECT_FILE, m_.file, mate.name, mate.line,
+                           who + " joins a part to itself; it is left out");
+                continue;
+            }
+            const std::pair<int, int> key(std::min(body[0], body[1]), std::max(body[0], body[1]));
+            auto [it, added] = pairs.try_emplace(key);
+            if (added) {
+                it->second.base = body[0];
+                it->second.follower = body[1];
+                order.push_back(key);
+            }
+            if (body[0] != it->second.base) std::swap(m.first, m.second);
+            it->second.mates.push_back(std::move(m));
+            it->second.source.push_back(&mate);
+        }
+        for (const auto& key : order) {
+            const Pair& pair = pairs[key];
+            std::vector<MateProblem> problems;
+            const InferredJoint joint = infer_joint(pair.mates, length, problems);
+            std::string names;
+            for (const Mate& m : pair.mates) names += (names.empty() ? "" : ", ") + m.name;
+            const std::string between =
+                "'" + a_.bodies[size_t(pair.base)].name + "' and '" + a_.bodies[size_t(pair.follower)].name + "'";
+            const std::string id = prefix + "mates:" + a_.bodies[size_t(pair.base)].id + "~" + a_.bodies[size_t(pair.follower)].id;
+            for (const MateProblem& p : problems)
+                diagnostic(p.error ? MBX_SEVERITY_ERROR : MBX_SEVERITY_WARNING,
+                           p.error ? "simscape_mate_impossible" : "simscape_mate_unread", MBX_SUBJECT_CONSTRAINT, id,
+                           pair.source[size_t(p.mate)]->name, pair.source[size_t(p.mate)]->line, p.message);
+            for (int r : joint.redundant)
+                diagnostic(MBX_SEVERITY_WARNING, "simscape_mate_redundant", MBX_SUBJECT_CONSTRAINT, id,
+                           pair.source[size_t(r)]->name, pair.source[size_t(r)]->line,
+                           pair.mates[size_t(r)].type + " mate '" + pair.mates[size_t(r)].name + "' between " + between +
+                               " holds nothing the mates before it do not");
+            const SimscapeJointType* type = joint.type.empty() ? nullptr : simscape_joint_type(joint.type);
+            if (!type) {
+                if (joint.freedoms < 6)
+                    diagnostic(MBX_SEVERITY_WARNING, "simscape_mates_no_joint", MBX_SUBJECT_CONSTRAINT, id, names,
+                               pair.source.front()->line,
+                               "the mates between " + between + " (" + names + ") leave " +
+                                   std::to_string(joint.freedoms) +
+                                   " freedoms that no joint type has; the parts are left unjoined by them");
+                continue;
+            }
+            mbx_memory::Constraint c;
+            c.id = id;
+            c.name = joint.type + " from mates " + names;
+            c.base_frame_id = add_frame(pair.base, id + "/base", c.name + " (base)", joint.frame);
+            c.follower_frame_id = add_frame(pair.follower, id + "/follower", c.name + " (follower)", joint.frame);
+            for (const SimscapePrimitive& p : type->chain) {
+                mbx_memory::Primitive prim;
+                prim.type = p.type;
+                prim.axis_reference = MBX_AXIS_IN_BASE_FRAME;
+                for (int k = 0; k < 3; ++k) prim.axis[k] = k == p.axis ? 1.0 : 0.0;
+                c.chain.push_back(prim);
+            }
+            a_.constraints.push_back(std::move(c));
+        }
     }
 
     const SimscapeModel& m_;

@@ -101,8 +101,25 @@ SimscapeXmlDocument double_pendulum_simscape(const std::string& step_dir) {
     return d;
 }
 
+// The same export as SolidWorks, Creo and Inventor write it: no joints, a
+// concentric and a coincident mate at each hinge (the hub bore's axis and the
+// lever's face), each geometry in its instance's frame.
+SimscapeXmlDocument double_pendulum_mates(const SimscapeXmlDocument& typed) {
+    SimscapeXmlDocument d = typed;
+    d.joints.clear();
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ(), y = Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d shoulder(0, 0.0342, 0), elbow(0.2, 0, 0.03);
+    d.mates = {{"Concentric", "Concentric1", {"cylinder", {"Mmount1"}, shoulder, y}, {"cylinder", {"Mlever1"}, {0, 0, 0}, z}},
+               {"Coincident", "Coincident1", {"plane", {"Mmount1"}, shoulder, y}, {"plane", {"Mlever1"}, {0, 0, 0}, -z}},
+               {"Concentric", "Concentric2", {"cylinder", {"Mlever1"}, elbow, z}, {"cylinder", {"Mlever2"}, {0, 0, 0}, z}},
+               {"Coincident", "Coincident2", {"plane", {"Mlever1"}, elbow, z}, {"plane", {"Mlever2"}, {0, 0, 0}, -z}}};
+    return d;
+}
+
 void make_double_pendulum_simscape(const std::string& directory) {
-    write_simscape_xml(directory + "/double_pendulum.xml", double_pendulum_simscape(MBX_SHARED_STEP_DIR));
+    const SimscapeXmlDocument typed = double_pendulum_simscape(MBX_SHARED_STEP_DIR);
+    write_simscape_xml(directory + "/double_pendulum.xml", typed);
+    write_simscape_xml(directory + "/double_pendulum_mates.xml", double_pendulum_mates(typed));
 }
 
 }  // namespace mbx_samples

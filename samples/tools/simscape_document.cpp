@@ -44,7 +44,7 @@ public:
         out_ += "      <InstanceTree>\n";
         for (const SimscapeXmlInstance& i : d_.instances) instance(i, 3);
         out_ += "      </InstanceTree>\n";
-        out_ += "      <Constraints/>\n";
+        mates(d_.mates, 2);
         joints(d_.joints, 2);
         out_ += "   </RootAssembly>\n";
         if (!d_.assemblies.empty()) {
@@ -93,6 +93,31 @@ private:
         out_ += pad(level + 1) + "</InstancePath>\n";
         transform(f.transform, level + 1);
         out_ += pad(level) + "</" + tag + ">\n";
+    }
+
+    void mates(const std::vector<SimscapeXmlMate>& ms, int level) {
+        if (ms.empty()) {
+            out_ += pad(level) + "<Constraints/>\n";
+            return;
+        }
+        out_ += pad(level) + "<Constraints>\n";
+        for (const SimscapeXmlMate& m : ms) {
+            out_ += pad(level + 1) + "<" + m.type + " name=\"" + escaped(m.name) + "\">\n";
+            for (const SimscapeXmlMateGeometry* g : {&m.first, &m.second}) {
+                out_ += pad(level + 2) + "<ConstraintGeometry geomType=\"" + escaped(g->geom_type) + "\">\n";
+                out_ += pad(level + 3) + "<InstancePath>\n";
+                for (const std::string& uid : g->path) out_ += pad(level + 4) + "<Uid>" + escaped(uid) + "</Uid>\n";
+                out_ += pad(level + 3) + "</InstancePath>\n";
+                out_ += pad(level + 3) + "<Position>" + number(g->position.x() * d_.per_metre) + " " +
+                        number(g->position.y() * d_.per_metre) + " " + number(g->position.z() * d_.per_metre) +
+                        "</Position>\n";
+                out_ += pad(level + 3) + "<Axis>" + number(g->axis.x()) + " " + number(g->axis.y()) + " " +
+                        number(g->axis.z()) + "</Axis>\n";
+                out_ += pad(level + 2) + "</ConstraintGeometry>\n";
+            }
+            out_ += pad(level + 1) + "</" + m.type + ">\n";
+        }
+        out_ += pad(level) + "</Constraints>\n";
     }
 
     void joints(const std::vector<SimscapeXmlJoint>& js, int level) {

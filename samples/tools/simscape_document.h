@@ -39,6 +39,20 @@ struct SimscapeXmlJoint {
     SimscapeXmlFrame base, follower;
 };
 
+// A mate as SolidWorks, Creo and Inventor export them: two geometries, each
+// on an instance, position and axis in that instance's frame.
+struct SimscapeXmlMateGeometry {
+    std::string geom_type;  // plane, cylinder, circle, sphere, point
+    std::vector<std::string> path;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+};
+
+struct SimscapeXmlMate {
+    std::string type, name;  // Coincident, Concentric, ...
+    SimscapeXmlMateGeometry first, second;
+};
+
 struct SimscapeXmlAssembly {
     std::string uid, name;
     std::vector<SimscapeXmlJoint> joints;
@@ -56,6 +70,7 @@ struct SimscapeXmlDocument {
     std::vector<SimscapeXmlAssembly> assemblies;
     std::vector<SimscapeXmlInstance> instances;
     std::vector<SimscapeXmlJoint> joints;
+    std::vector<SimscapeXmlMate> mates;  // the root assembly's <Constraints>
 };
 
 std::string simscape_xml(const SimscapeXmlDocument& document);

@@ -253,7 +253,8 @@ TEST_CASE("simscape: the same file in inches and pounds, and without DataUnits i
     const auto old = mbx_files::SimscapeAdapter::open(write(dir, "old.xml", mbx_samples::simscape_xml(bare)));
     check_same(dynamics(old->table(), 2), dynamics(si->table(), 2), 0);
     atest::Translation t(old->table(), 0);
-    const atest::FindingCopy* f = finding(t.findings(), "simscape_no_data_units");
+    const std::vector<atest::FindingCopy> all = t.findings();
+    const atest::FindingCopy* f = finding(all, "simscape_no_data_units");
     REQUIRE(f != nullptr);
     CHECK(f->line == 2);
     CHECK(f->message.find("metres and kilograms") != std::string::npos);
@@ -465,6 +466,29 @@ TEST_CASE("simscape sample: the DFKI double pendulum on its real STEP levers is 
     CHECK(t.mesh_total() == 2);
     CHECK(t.count(MBX_FINDING_MASS_MISMATCH) == 0);
     CHECK(t.count(MBX_FINDING_HOST_DIAGNOSTIC) == 0);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("simscape sample: the DFKI double pendulum given by mates only is the same mechanism as with typed joints") {
+    const std::string dir = std::string(MBX_SAMPLES_DIR) + "/double_pendulum_simscape/";
+    const auto typed = mbx_files::SimscapeAdapter::open(dir + "double_pendulum.xml");
+    const auto mated = mbx_files::SimscapeAdapter::open(dir + "double_pendulum_mates.xml");
+    // Each hinge's concentric bore and coincident face make one revolute joint, named by its mates.
+    const mbx_memory::Assembly& a = mated->assembly();
+    REQUIRE(a.constraints.size() == 2);
+    CHECK(a.constraints[0].id == "mates:Mmount1~Mlever1");
+    CHECK(a.constraints[0].name == "Revolute from mates Concentric1, Coincident1");
+    CHECK(a.constraints[1].name == "Revolute from mates Concentric2, Coincident2");
+    for (const mbx_memory::Constraint& c : a.constraints) {
+        REQUIRE(c.chain.size() == 1);
+        CHECK(c.chain[0].type == MBX_PRIMITIVE_REVOLUTE);
+    }
+    check_same(dynamics(mated->table(), 2), dynamics(typed->table(), 2), 1e-12);
+    atest::Translation t(mated->table(), 0);
+    for (const atest::FindingCopy& f : t.findings()) CHECK(f.code_name.rfind("simscape_", 0) != 0);
 }
 
 }  // namespace MBX_UNITY_ID
