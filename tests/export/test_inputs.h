@@ -1,5 +1,6 @@
 // The mechanisms the exporter and simulator tests run on: mbx's built-ins,
-// the bundled samples (PMXML + VRML shapes), the real PMXML exports in
+// the bundled samples (PMXML + VRML shapes, and the Simscape export on its
+// STEP levers), the real PMXML exports in
 // ../shared and the small assemblies of the MJCF tests, each translated by
 // mbx's own pipeline.
 #pragma once
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "export_fixture.h"
+#include "host_adapters/simscape/simscape_adapter.h"
 #include "mujoco_assemblies.h"
 #include "tests/common/shared_data.h"
 
@@ -33,6 +35,15 @@ inline std::vector<Input> builtin_inputs() {
     return in;
 }
 
+// The Simscape sample (one of its two dialects) with its levers' STEP files from ../shared.
+inline std::unique_ptr<xtest::Translated> open_simscape_sample(const std::string& file) {
+    mbx_files::FileInputOptions o;
+    o.mesh_dirs.push_back(mbx_test::shared_data("step/dfki_double_pendulum"));
+    std::shared_ptr<mbx_files::SimscapeAdapter> adapter =
+        mbx_files::SimscapeAdapter::open(std::string(MBX_SAMPLES_DIR) + "/double_pendulum_simscape/" + file, o);
+    return xtest::translate_table(adapter->table(), adapter);
+}
+
 // Every folder of samples/ that holds an assembly.
 inline std::vector<Input> sample_inputs() {
     std::vector<Input> in;
@@ -43,6 +54,9 @@ inline std::vector<Input> sample_inputs() {
              {"fourbar_imperial", "fourbar"},
              {"joints_showcase", "joints_showcase"}})
         in.push_back({"sample " + folder, [folder = folder, stem = stem] { return open_sample(folder, stem); }});
+    for (const char* file : {"double_pendulum.xml", "double_pendulum_mates.xml"})
+        in.push_back({std::string("sample double_pendulum_simscape/") + file,
+                      [file] { return open_simscape_sample(file); }});
     return in;
 }
 
