@@ -10,7 +10,7 @@ namespace mbx_files {
 
 struct SimscapeAdapter::Lazy {
     struct Source {
-        std::string path;
+        std::string path, part_name;
         int line = 0;
         bool tried = false, loaded = false;
         mbx_memory::Mesh mesh;  // the part's, shared by its instances
@@ -20,7 +20,6 @@ struct SimscapeAdapter::Lazy {
     double unit_m = 1;
     std::map<int, Source> parts;              // by part index
     std::map<std::string, int> part_of_body;  // body id -> part index
-    std::map<std::string, std::string> part_names;
     mbx_memory::Host* host = nullptr;
 
     bool load(const mbx_memory::Body& body, std::vector<mbx_memory::Mesh>& out) {
@@ -40,7 +39,7 @@ struct SimscapeAdapter::Lazy {
                 d.subject_name = body.name;
                 d.file = xml_file;
                 d.line = s.line;
-                d.message = "STEP file '" + s.path + "' of part '" + part_names[s.path] + "' could not be read: " +
+                d.message = "STEP file '" + s.path + "' of part '" + s.part_name + "' could not be read: " +
                             s.error + "; its instances get no shape from it";
                 host->add_diagnostic(std::move(d));
             }
@@ -104,9 +103,9 @@ std::unique_ptr<SimscapeAdapter> SimscapeAdapter::open(const std::string& xml_pa
             self->geometry_files_[part.uid] = path;
             Lazy::Source source;
             source.path = path;
+            source.part_name = part.name;
             source.line = part.geometry_line;
             lazy->parts[int(k)] = std::move(source);
-            lazy->part_names[path] = part.name;
         }
     }
     for (const SimscapeBodyPart& bp : built.body_parts) lazy->part_of_body[bp.body_id] = bp.part;

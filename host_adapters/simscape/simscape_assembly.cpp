@@ -126,6 +126,25 @@ private:
         return id;
     }
 
+    // A joint of the table between two bodies, its frames at their world poses,
+    // its primitives along the base frame's axes.
+    void add_joint(const SimscapeJointType& type, const std::string& id, const std::string& name, int base,
+                   const Eigen::Isometry3d& base_world, int follower, const Eigen::Isometry3d& follower_world) {
+        mbx_memory::Constraint c;
+        c.id = id;
+        c.name = name;
+        c.base_frame_id = add_frame(base, id + "/base", name + " (base)", base_world);
+        c.follower_frame_id = add_frame(follower, id + "/follower", name + " (follower)", follower_world);
+        for (const SimscapePrimitive& p : type.chain) {
+            mbx_memory::Primitive prim;
+            prim.type = p.type;
+            prim.axis_reference = MBX_AXIS_IN_BASE_FRAME;
+            for (int k = 0; k < 3; ++k) prim.axis[k] = k == p.axis ? 1.0 : 0.0;
+            c.chain.push_back(prim);
+        }
+        a_.constraints.push_back(std::move(c));
+    }
+
     // Welds every part below a rigid sub-assembly, and the members of each
     // rigid group, to the first of them.
     void weld_rigid() {
@@ -230,19 +249,7 @@ private:
                            j.type + " joint " + q(j.name) + ": " + why + "; the joint is left out");
                 continue;
             }
-            mbx_memory::Constraint c;
-            c.id = id;
-            c.name = j.name.empty() ? id : j.name;
-            c.base_frame_id = add_frame(base, id + "/base", c.name + " (base)", base_world);
-            c.follower_frame_id = add_frame(follower, id + "/follower", c.name + " (follower)", follower_world);
-            for (const SimscapePrimitive& p : type->chain) {
-                mbx_memory::Primitive prim;
-                prim.type = p.type;
-                prim.axis_reference = MBX_AXIS_IN_BASE_FRAME;
-                for (int k = 0; k < 3; ++k) prim.axis[k] = k == p.axis ? 1.0 : 0.0;
-                c.chain.push_back(prim);
-            }
-            a_.constraints.push_back(std::move(c));
+            add_joint(*type, id, j.name.empty() ? id : j.name, base, base_world, follower, follower_world);
         }
         if (!mech.mates.empty() && mech.joints.empty()) joints_from_mates(mech, scope, prefix);
     }
@@ -288,11 +295,10 @@ private:
                     break;
                 }
                 // The geometry in the instance's frame (the path's transform, usually none, before it).
-                const Eigen::Isometry3d at = world;
                 MateGeometry& out = k == 0 ? m.first : m.second;
                 out.type = g.geom_type;
-                out.position = at * g.position;
-                out.axis = at.linear() * g.axis;
+                out.position = world * g.position;
+                out.axis = world.linear() * g.axis;
             }
             if (!ok) continue;
             if (body[0] == body[1]) {
@@ -339,19 +345,7 @@ private:
                                    " freedoms that no joint type has; the parts are left unjoined by them");
                 continue;
             }
-            mbx_memory::Constraint c;
-            c.id = id;
-            c.name = joint.type + " from mates " + names;
-            c.base_frame_id = add_frame(pair.base, id + "/base", c.name + " (base)", joint.frame);
-            c.follower_frame_id = add_frame(pair.follower, id + "/follower", c.name + " (follower)", joint.frame);
-            for (const SimscapePrimitive& p : type->chain) {
-                mbx_memory::Primitive prim;
-                prim.type = p.type;
-                prim.axis_reference = MBX_AXIS_IN_BASE_FRAME;
-                for (int k = 0; k < 3; ++k) prim.axis[k] = k == p.axis ? 1.0 : 0.0;
-                c.chain.push_back(prim);
-            }
-            a_.constraints.push_back(std::move(c));
+            add_joint(*type, id, joint.type + " from mates " + names, pair.base, joint.frame, pair.follower, joint.frame);
         }
     }
 
