@@ -161,6 +161,7 @@ void MechanismBuilder::add_joint(int base, int follower, const Eigen::Vector3d& 
     j.base_ref = add_frame(base, at, j.node_id);
     j.follower_ref = add_frame(follower, at, j.node_id);
     j.primitives = std::move(primitives);
+    joints_.push_back(JointInfo{base, follower, at, j.primitives});
     doc_.joints.push_back(std::move(j));
     // Stored where both bodies are visible, as exporters do.
     doc_.subsystems[size_t(common_subsystem(base, follower))].joints.push_back(int(doc_.joints.size() - 1));

@@ -8,9 +8,12 @@
 #include <vector>
 
 #include "pmxml_document.h"
+#include "step_writer.h"
 #include "vrml_writer.h"
 
 namespace mbx_samples {
+
+struct SimscapeXmlDocument;
 
 PmxmlPrimitive weld();
 PmxmlPrimitive revolute(const Eigen::Vector3d& axis);
@@ -68,6 +71,14 @@ public:
     // Writes `shape` in place in the body's Transform instead of an Inline.
     void set_shape_in_place(int body, const VrmlShape& shape);
 
+    // The same assembly as a Simscape Multibody second-generation export
+    // (simscape_twin.cpp): a part and an instance per body (a rigid
+    // sub-assembly's parts inside a rigid instance), subsystems as nested
+    // instances holding their joints, the RootPart welds as grounded
+    // instances, every part's shapes one STEP file in `directory` in
+    // `step_unit`. Mass properties in SI from the same solids.
+    SimscapeXmlDocument simscape(const std::string& directory, const StepLengthUnit& step_unit) const;
+
     size_t body_count() const { return doc_.bodies.size(); }
     const Eigen::Isometry3d& cs1(int body) const { return bodies_[size_t(body)].cs1; }
 
@@ -80,6 +91,11 @@ private:
         VrmlPlacement placement;  // pose: world (CS1)
         std::vector<VrmlGeometryFile> files;
         bool helper = false;
+    };
+    struct JointInfo {
+        int base = 0, follower = 0;
+        Eigen::Vector3d at = Eigen::Vector3d::Zero();  // world, length unit
+        std::vector<PmxmlPrimitive> primitives;
     };
     struct SubsystemInfo {
         int parent = -1;
@@ -101,6 +117,7 @@ private:
     bool finished_ = false;
     std::vector<BodyInfo> bodies_;
     std::vector<SubsystemInfo> subsystems_;
+    std::vector<JointInfo> joints_;
     std::vector<VrmlGeometryFile> shared_files_;
 };
 

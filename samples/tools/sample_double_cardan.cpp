@@ -14,6 +14,8 @@
 
 #include "mechanism_builder.h"
 #include "samples.h"
+#include "simscape_document.h"
+#include "whole_file.h"
 
 namespace mbx_samples {
 
@@ -116,6 +118,15 @@ void make_double_cardan(const std::string& directory) {
     VrmlAssembly vrml = m.vrml("double_cardan_a.wrl", 1000.0, false);
     vrml.info = {"Double cardan shaft, VRML in metres (model in millimetres)", "mbx sample double_cardan"};
     write_vrml(directory, vrml);
+
+    // The same shaft as a current export: the CARDAN_SHAFT subsystem a
+    // nested sub-assembly instance whose Assembly holds its joint, STEP parts
+    // in millimetres, numbers in metres and kilograms.
+    const std::string twin = directory + "/simscape";
+    make_directory(twin);
+    SimscapeXmlDocument s = m.simscape(twin, step_millimetre());
+    s.created_from = "mbx_make_samples (the double_cardan assembly, a nested sub-assembly)";
+    write_simscape_xml(twin + "/double_cardan.xml", s);
 }
 
 }  // namespace mbx_samples

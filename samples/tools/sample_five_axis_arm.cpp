@@ -9,6 +9,8 @@
 
 #include "mechanism_builder.h"
 #include "samples.h"
+#include "simscape_document.h"
+#include "whole_file.h"
 
 namespace mbx_samples {
 
@@ -79,6 +81,15 @@ void make_five_axis_arm(const std::string& directory) {
     VrmlAssembly vrml = m.vrml("five_axis_arm_a.wrl", 1.0, false);
     vrml.info = {"Five-axis arm, upper arm a rigid sub-assembly of three parts", "mbx sample five_axis_arm"};
     write_vrml(directory, vrml);
+
+    // The same arm as a current export: the upper arm a rigid sub-assembly
+    // instance of its three parts, each with its own mass properties and STEP
+    // file (millimetres); numbers in metres and kilograms.
+    const std::string twin = directory + "/simscape";
+    make_directory(twin);
+    SimscapeXmlDocument s = m.simscape(twin, step_millimetre());
+    s.created_from = "mbx_make_samples (the five_axis_arm assembly, a rigid sub-assembly)";
+    write_simscape_xml(twin + "/five_axis_arm.xml", s);
 }
 
 }  // namespace mbx_samples

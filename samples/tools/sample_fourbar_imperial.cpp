@@ -7,6 +7,8 @@
 
 #include "mechanism_builder.h"
 #include "samples.h"
+#include "simscape_document.h"
+#include "whole_file.h"
 
 namespace mbx_samples {
 
@@ -87,6 +89,18 @@ void make_fourbar_imperial(const std::string& directory) {
     VrmlAssembly vrml = m.vrml("fourbar_a.wrl", 1.0, false);
     vrml.info = {"Four-bar crank-rocker, inches", "mbx sample fourbar_imperial"};
     write_vrml(directory, vrml);
+
+    // The same four-bar as an Onshape-style export: typed joints, the loop
+    // left to the translator, numbers and STEP parts in inches and pounds.
+    const std::string twin = directory + "/simscape";
+    make_directory(twin);
+    SimscapeXmlDocument s = m.simscape(twin, step_inch());
+    s.created_from = "mbx_make_samples (the fourbar_imperial assembly, typed joints)";
+    s.length_unit = "inch";
+    s.mass_unit = "lbm";
+    s.per_metre = 1 / 0.0254;
+    s.per_kilogram = 1 / 0.45359237;
+    write_simscape_xml(twin + "/fourbar.xml", s);
 }
 
 }  // namespace mbx_samples

@@ -1,14 +1,12 @@
 #include "simscape_document.h"
 
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
 
-#include <unistd.h>
+#include "whole_file.h"
 
 namespace mbx_samples {
 namespace {
-
 
 std::string escaped(const std::string& s) {
     std::string out;
@@ -167,20 +165,7 @@ private:
 std::string simscape_xml(const SimscapeXmlDocument& document) { return Writer(document).run(); }
 
 void write_simscape_xml(const std::string& path, const SimscapeXmlDocument& document) {
-    const std::string text = simscape_xml(document);
-    const std::string temp = path + ".tmp." + std::to_string(::getpid());
-    {
-        std::ofstream out(temp, std::ios::binary);
-        out << text;
-        if (!out.flush()) {
-            std::remove(temp.c_str());
-            throw std::runtime_error("cannot write " + path);
-        }
-    }
-    if (std::rename(temp.c_str(), path.c_str()) != 0) {
-        std::remove(temp.c_str());
-        throw std::runtime_error("cannot write " + path);
-    }
+    write_whole_file(path, simscape_xml(document));
 }
 
 }  // namespace mbx_samples

@@ -22,6 +22,7 @@
 #include "samples/tools/simscape_document.h"
 #include "tests/common/near.h"
 #include "tests/common/shared_data.h"
+#include "mechanism_dynamics.h"
 #include "translation_support.h"
 
 namespace MBX_UNITY_ID {
@@ -144,48 +145,8 @@ struct Arm {
     }
 };
 
-// Mass matrices and inverse dynamics (zero acceleration and a random one)
-// at random states, stacked.
-std::vector<double> dynamics(const mbx_host* host, uint32_t expected_nv) {
-    atest::Translation t(host, 0);
-    REQUIRE(t.status() == MBX_OK);
-    mbx_context* ctx = t.context();
-    mbx_sim_model* model = nullptr;
-    mbx_sim_data* data = nullptr;
-    REQUIRE(mbx_sim_model_create(ctx, t.mechanism(), nullptr, &model) == MBX_OK);
-    REQUIRE(mbx_sim_data_create(ctx, model, &data) == MBX_OK);
-    mbx_sim_model_info info{};
-    info.struct_size = sizeof info;
-    REQUIRE(mbx_sim_model_get_info(model, &info) == MBX_OK);
-    CHECK(info.nv == expected_nv);
-    std::vector<double> out;
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> u(-2, 2);
-    for (int sample = 0; sample < 5; ++sample) {
-        std::vector<double> q(info.nq), v(info.nv), qacc(info.nv), M(size_t(info.nv) * info.nv), tau(info.nv);
-        for (double& x : q) x = u(rng);
-        for (double& x : v) x = u(rng);
-        for (double& x : qacc) x = u(rng);
-        REQUIRE(mbx_sim_set_state(ctx, data, 0, q.data(), v.data()) == MBX_OK);
-        REQUIRE(mbx_sim_mass_matrix(ctx, data, M.data()) == MBX_OK);
-        REQUIRE(mbx_sim_inverse_dynamics(ctx, data, qacc.data(), tau.data()) == MBX_OK);
-        out.insert(out.end(), M.begin(), M.end());
-        out.insert(out.end(), tau.begin(), tau.end());
-    }
-    mbx_sim_data_destroy(data);
-    mbx_sim_model_destroy(model);
-    return out;
-}
-
-void check_same(const std::vector<double>& a, const std::vector<double>& b, double tolerance) {
-    REQUIRE(a.size() == b.size());
-    double scale = 0;
-    for (double x : b) scale = std::max(scale, std::abs(x));
-    for (size_t k = 0; k < a.size(); ++k) {
-        CAPTURE(k);
-        CHECK(a[k] == mbx_test::within(b[k], tolerance * scale, "relative to the largest entry"));
-    }
-}
+using atest::check_same;
+using atest::dynamics;
 
 std::string write(atest::TempDir& dir, const std::string& name, const std::string& text) {
     const std::string path = dir.file(name);

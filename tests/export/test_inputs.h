@@ -35,12 +35,12 @@ inline std::vector<Input> builtin_inputs() {
     return in;
 }
 
-// The Simscape sample (one of its two dialects) with its levers' STEP files from ../shared.
-inline std::unique_ptr<xtest::Translated> open_simscape_sample(const std::string& file) {
+// A Simscape sample: `file` under samples/, its STEP parts beside it or in `mesh_dir`.
+inline std::unique_ptr<xtest::Translated> open_simscape_sample(const std::string& file, const std::string& mesh_dir = "") {
     mbx_files::FileInputOptions o;
-    o.mesh_dirs.push_back(mbx_test::shared_data("step/dfki_double_pendulum"));
+    if (!mesh_dir.empty()) o.mesh_dirs.push_back(mesh_dir);
     std::shared_ptr<mbx_files::SimscapeAdapter> adapter =
-        mbx_files::SimscapeAdapter::open(std::string(MBX_SAMPLES_DIR) + "/double_pendulum_simscape/" + file, o);
+        mbx_files::SimscapeAdapter::open(std::string(MBX_SAMPLES_DIR) + "/" + file, o);
     return xtest::translate_table(adapter->table(), adapter);
 }
 
@@ -54,9 +54,14 @@ inline std::vector<Input> sample_inputs() {
              {"fourbar_imperial", "fourbar"},
              {"joints_showcase", "joints_showcase"}})
         in.push_back({"sample " + folder, [folder = folder, stem = stem] { return open_sample(folder, stem); }});
-    for (const char* file : {"double_pendulum.xml", "double_pendulum_mates.xml"})
-        in.push_back({std::string("sample double_pendulum_simscape/") + file,
-                      [file] { return open_simscape_sample(file); }});
+    // The DFKI pendulum in both dialects, its levers' STEP files from ../shared.
+    for (const char* file : {"double_pendulum_simscape/double_pendulum.xml", "double_pendulum_simscape/double_pendulum_mates.xml"})
+        in.push_back({std::string("sample ") + file,
+                      [file] { return open_simscape_sample(file, mbx_test::shared_data("step/dfki_double_pendulum")); }});
+    // The PMXML samples' Simscape twins: a loop, a nested and a rigid sub-assembly.
+    for (const char* file : {"fourbar_imperial/simscape/fourbar.xml", "double_cardan/simscape/double_cardan.xml",
+                             "five_axis_arm/simscape/five_axis_arm.xml"})
+        in.push_back({std::string("sample ") + file, [file] { return open_simscape_sample(file); }});
     return in;
 }
 

@@ -31,17 +31,19 @@ void check_folder(const char* name, void (*make)(const std::string&)) {
     make(tmp.path());
     const fs::path committed = fs::path(MBX_SAMPLES_DIR) / name;
     size_t files = 0;
-    for (const auto& entry : fs::directory_iterator(tmp.path())) {
-        const fs::path name_only = entry.path().filename();
-        INFO("file " << name_only.string());
-        REQUIRE(fs::exists(committed / name_only));
-        CHECK(read_all(entry.path()) == read_all(committed / name_only));
+    // Sub-folders too (a sample's Simscape twin in simscape/).
+    for (const auto& entry : fs::recursive_directory_iterator(tmp.path())) {
+        if (entry.is_directory()) continue;
+        const fs::path relative = fs::relative(entry.path(), tmp.path());
+        INFO("file " << relative.string());
+        REQUIRE(fs::exists(committed / relative));
+        CHECK(read_all(entry.path()) == read_all(committed / relative));
         ++files;
     }
     // Nothing committed that the tool no longer writes (README.md aside).
     size_t committed_files = 0;
-    for (const auto& entry : fs::directory_iterator(committed))
-        committed_files += entry.path().filename() != "README.md";
+    for (const auto& entry : fs::recursive_directory_iterator(committed))
+        committed_files += !entry.is_directory() && entry.path().filename() != "README.md";
     CHECK(committed_files == files);
 }
 
