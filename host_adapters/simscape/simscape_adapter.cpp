@@ -1,7 +1,10 @@
 #include "simscape_adapter.h"
 
+#include <algorithm>
 #include <filesystem>
 
+#include "core/geometry/mesh_properties.h"
+#include "data_units_inference.h"
 #include "host_adapters/common/mesh_file.h"
 #include "simscape_assembly.h"
 #include "simscape_reader.h"
@@ -67,44 +70,101 @@ mbx_memory::Diagnostic part_diagnostic(const SimscapeModel& model, const Simscap
     return d;
 }
 
+// A file without <DataUnits>: its units told by up to three parts' STEP
+// solids (the smallest files, to keep the cost of opening low). The meshes
+// read for it are kept, in the file's length unit, for the shapes.
+void infer_units(SimscapeModel& model, const std::vector<std::string>& step_paths, std::map<int, mbx_memory::Mesh>& meshes) {
+    std::vector<std::pair<uintmax_t, int>> candidates;
+    for (size_t k = 0; k < model.parts.size(); ++k) {
+        const SimscapePart& part = model.parts[k];
+        std::error_code ec;
+        if (!part.has_mass_properties || !(part.mass > 0) || step_paths[k].empty()) continue;
+        const uintmax_t size = fs::file_size(step_paths[k], ec);
+        if (!ec) candidates.push_back({size, int(k)});
+    }
+    std::sort(candidates.begin(), candidates.end());
+    std::vector<UnitEvidence> evidence;
+    std::vector<int> evidence_parts;
+    for (const auto& [size, k] : candidates) {
+        if (evidence.size() == 3) break;
+        mbx_memory::Mesh mesh;
+        std::string error;
+        if (!load_mesh_file(step_paths[size_t(k)], mesh, error, 1.0)) continue;
+        std::vector<mbx::Vec3> points(mesh.vertices.size() / 3);
+        for (size_t v = 0; v < points.size(); ++v)
+            points[v] = mbx::Vec3(mesh.vertices[3 * v], mesh.vertices[3 * v + 1], mesh.vertices[3 * v + 2]);
+        mbx::SolidAccumulator solid;
+        solid.add(points, mesh.triangles);
+        const mbx::SolidProperties p = solid.result();
+        const SimscapePart& part = model.parts[size_t(k)];
+        evidence.push_back({part.name, part.mass, part.inertia, p.volume, p.inertia_per_density});
+        evidence_parts.push_back(k);
+        meshes[k] = std::move(mesh);
+    }
+    const InferredUnits units = infer_data_units(evidence, model.model_length_unit, model.model_mass_unit);
+    model.length_to_m = units.length_to_m;
+    model.mass_to_kg = units.mass_to_kg;
+    for (mbx_memory::Diagnostic& d : model.diagnostics)
+        if (d.code == "simscape_no_data_units") d.message = units.reason;
+    for (auto& [k, mesh] : meshes)
+        for (double& x : mesh.vertices) x /= units.length_to_m;
+}
+
 }  // namespace
 
 std::unique_ptr<SimscapeAdapter> SimscapeAdapter::open(const std::string& xml_path, const FileInputOptions& options) {
     std::unique_ptr<SimscapeAdapter> self(new SimscapeAdapter());
     self->model_ = read_simscape(xml_path);
-    const SimscapeModel& model = self->model_;
-    SimscapeAssembly built = to_assembly(model);
+    SimscapeModel& model = self->model_;
 
-    auto lazy = std::make_shared<Lazy>();
-    lazy->xml_file = model.file;
-    lazy->unit_m = model.length_to_m;
+    // Each part's STEP file: found and starting as STEP, or why not.
     std::vector<std::string> dirs{fs::path(xml_path).parent_path().string()};
     if (dirs[0].empty()) dirs[0] = ".";
     dirs.insert(dirs.end(), options.mesh_dirs.begin(), options.mesh_dirs.end());
     MeshFileFinder finder(dirs);
-    std::vector<bool> used(model.parts.size(), false);
-    for (const SimscapeBodyPart& bp : built.body_parts) used[size_t(bp.part)] = true;
+    std::vector<std::string> step_paths(model.parts.size()), problems(model.parts.size());
+    std::vector<const char*> problem_codes(model.parts.size(), nullptr);
     for (size_t k = 0; k < model.parts.size(); ++k) {
         const SimscapePart& part = model.parts[k];
-        if (!used[k] || part.geometry_file.empty()) continue;
+        if (part.geometry_file.empty()) continue;
         const std::string path = finder.find(part.geometry_file);
         std::string why;
         if (path.empty()) {
-            built.assembly.diagnostics.push_back(part_diagnostic(
-                model, part, "mesh_file_missing",
-                "STEP file '" + part.geometry_file + "' of part '" + part.name + "' was not found (searched " +
-                    std::to_string(dirs.size()) + " directories, ignoring case); its instances get no shape from it"));
+            problem_codes[k] = "mesh_file_missing";
+            problems[k] = "STEP file '" + part.geometry_file + "' of part '" + part.name + "' was not found (searched " +
+                          std::to_string(dirs.size()) + " directories, ignoring case); its instances get no shape from it";
         } else if (!probe_mesh_file(path, why)) {
-            built.assembly.diagnostics.push_back(
-                part_diagnostic(model, part, "mesh_file_unreadable",
-                                "STEP file '" + path + "' of part '" + part.name + "' cannot be read: " + why +
-                                    "; its instances get no shape from it"));
+            problem_codes[k] = "mesh_file_unreadable";
+            problems[k] = "STEP file '" + path + "' of part '" + part.name + "' cannot be read: " + why +
+                          "; its instances get no shape from it";
         } else {
-            self->geometry_files_[part.uid] = path;
+            step_paths[k] = path;
+        }
+    }
+    std::map<int, mbx_memory::Mesh> preloaded;
+    if (!model.data_units_written) infer_units(model, step_paths, preloaded);
+
+    SimscapeAssembly built = to_assembly(model);
+    auto lazy = std::make_shared<Lazy>();
+    lazy->xml_file = model.file;
+    lazy->unit_m = model.length_to_m;
+    std::vector<bool> used(model.parts.size(), false);
+    for (const SimscapeBodyPart& bp : built.body_parts) used[size_t(bp.part)] = true;
+    for (size_t k = 0; k < model.parts.size(); ++k) {
+        if (!used[k]) continue;
+        if (problem_codes[k]) {
+            built.assembly.diagnostics.push_back(part_diagnostic(model, model.parts[k], problem_codes[k], problems[k]));
+        } else if (!step_paths[k].empty()) {
+            self->geometry_files_[model.parts[k].uid] = step_paths[k];
             Lazy::Source source;
-            source.path = path;
-            source.part_name = part.name;
-            source.line = part.geometry_line;
+            source.path = step_paths[k];
+            source.part_name = model.parts[k].name;
+            source.line = model.parts[k].geometry_line;
+            const auto kept = preloaded.find(int(k));
+            if (kept != preloaded.end()) {
+                source.tried = source.loaded = true;
+                source.mesh = std::move(kept->second);
+            }
             lazy->parts[int(k)] = std::move(source);
         }
     }

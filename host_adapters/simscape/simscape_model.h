@@ -97,6 +97,7 @@ struct SimscapeModel {
     std::string created_by, created_from, created_using;
     double length_to_m = 1, mass_to_kg = 1;
     bool data_units_written = false;
+    std::string model_length_unit, model_mass_unit;  // <ModelUnits>, as written (display only)
     std::string root_name, root_uid;
     int root_line = 0;
     std::vector<SimscapePart> parts;

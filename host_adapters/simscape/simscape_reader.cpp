@@ -136,10 +136,14 @@ private:
     }
 
     void read_units(const pugi::xml_node& root) {
+        const pugi::xml_node display = child(root, "ModelUnits");
+        model_.model_length_unit = display.attribute("length").value();
+        model_.model_mass_unit = display.attribute("mass").value();
         const pugi::xml_node units = child(root, "DataUnits");
         if (!units) {
             // Older Link versions write none; their ModelUnits are only what a
-            // Simulink import would display.
+            // Simulink import would display. The adapter tells the units from
+            // the parts' STEP files where it can (data_units_inference.h).
             note(root, MBX_SEVERITY_WARNING, "simscape_no_data_units",
                  "no <DataUnits>: the numbers are taken as metres and kilograms");
             return;

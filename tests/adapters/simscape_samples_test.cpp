@@ -13,6 +13,7 @@
 
 #include "adapter_test_support.h"
 #include "host_adapters/inputs/input_formats.h"
+#include "host_adapters/simscape/data_units_inference.h"
 #include "host_adapters/simscape/simscape_adapter.h"
 #include "host_adapters/simscape/simscape_reader.h"
 #include "mechanism_dynamics.h"
@@ -178,6 +179,89 @@ TEST_CASE("simscape: a part with three products of inertia, its six numbers writ
     const std::vector<atest::FindingCopy> findings = t.findings();
     CHECK_FALSE(has_code(findings, "mass_mismatch"));
     CHECK_FALSE(has_code(findings, "mesh_file_missing"));
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+namespace {
+
+// A box of edges a, b, c (m) of density rho (kg/m^3), its mass properties
+// written in a length unit of `unit_m` metres and a mass unit of `unit_kg`.
+mbx_files::UnitEvidence box_evidence(double a, double b, double c, double rho, double unit_m, double unit_kg) {
+    mbx_files::UnitEvidence e;
+    e.part_name = "box";
+    e.volume = a * b * c;
+    e.inertia_per_density = e.volume / 12 * Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal();
+    e.mass = rho * e.volume / unit_kg;
+    e.inertia = rho * e.inertia_per_density / (unit_kg * unit_m * unit_m);
+    return e;
+}
+
+}  // namespace
+
+TEST_CASE("simscape units without DataUnits: the parts' STEP solids tell the length by the radius of gyration and the mass by the density") {
+    struct Case {
+        double unit_m, unit_kg, rho;
+        const char *length, *mass;
+    };
+    for (const Case& c : {Case{1e-3, 1, 2700, "millimetres", "kilograms"}, Case{0.0254, 0.45359237, 7850, "inches", "pounds"},
+                          Case{1, 1, 1200, "metres", "kilograms"}, Case{1e-2, 1e-3, 8700, "centimetres", "grams"},
+                          Case{0.3048, 0.45359237, 4430, "feet", "pounds"}}) {
+        CAPTURE(c.length);
+        // Three parts of different shapes and sizes, one of them 10 % denser than the rest.
+        const std::vector<mbx_files::UnitEvidence> evidence = {box_evidence(0.3, 0.02, 0.04, c.rho, c.unit_m, c.unit_kg),
+                                                               box_evidence(0.05, 0.05, 0.05, 1.1 * c.rho, c.unit_m, c.unit_kg),
+                                                               box_evidence(0.12, 0.2, 0.01, c.rho, c.unit_m, c.unit_kg)};
+        // ModelUnits that say something else do not sway it.
+        const mbx_files::InferredUnits u = mbx_files::infer_data_units(evidence, "inch", "lbm");
+        CHECK(u.from_geometry);
+        CHECK(u.length_to_m == c.unit_m);
+        CHECK(u.mass_to_kg == c.unit_kg);
+        CHECK(u.reason.find(std::string(c.length) + " and " + c.mass) != std::string::npos);
+        CHECK(u.reason.find("'inch' and 'lbm'") != std::string::npos);
+    }
+    // Nothing to tell by, or mass properties that fit no length unit: metres and kilograms, said so.
+    const mbx_files::InferredUnits none = mbx_files::infer_data_units({}, "", "");
+    CHECK_FALSE(none.from_geometry);
+    CHECK(none.length_to_m == 1);
+    CHECK(none.reason.find("no part with mass properties and a readable STEP file") != std::string::npos);
+    const mbx_files::InferredUnits odd = mbx_files::infer_data_units({box_evidence(0.1, 0.2, 0.3, 2700, 0.5, 1)}, "", "");
+    CHECK_FALSE(odd.from_geometry);
+    CHECK(odd.length_to_m == 1);
+    CHECK(odd.reason.find("fit no length unit") != std::string::npos);
+    CHECK(odd.reason.find("0.5 m per unit") != std::string::npos);
+}
+
+TEST_CASE("simscape units without DataUnits: the four-bar's twin in inches and pounds, its DataUnits taken away, is the same mechanism") {
+    const std::string dir = std::string(MBX_SAMPLES_DIR) + "/fourbar_imperial/simscape";
+    std::string text = atest::read_file(dir + "/fourbar.xml");
+    const size_t at = text.find("   <DataUnits");
+    REQUIRE(at != std::string::npos);
+    text.erase(at, text.find('\n', at) + 1 - at);
+    atest::TempDir tmp("mbx_simscape_no_units");
+    atest::write_file(tmp.file("fourbar.xml"), text);
+    mbx_files::FileInputOptions o;
+    o.mesh_dirs.push_back(dir);
+    const auto bare = mbx_files::SimscapeAdapter::open(tmp.file("fourbar.xml"), o);
+    const auto written = mbx_files::SimscapeAdapter::open(dir + "/fourbar.xml");
+    CHECK(bare->model().length_to_m == 0.0254);
+    CHECK(bare->model().mass_to_kg == 0.45359237);
+    bool said = false;
+    for (const mbx_memory::Diagnostic& d : bare->model().diagnostics)
+        if (d.code == "simscape_no_data_units") {
+            said = true;
+            CHECK(d.message.find("inches and pounds") != std::string::npos);
+            CHECK(d.message.find("3 parts' STEP solids") != std::string::npos);
+        }
+    CHECK(said);
+    atest::check_same(atest::dynamics(bare->table(), 3), atest::dynamics(written->table(), 3), 1e-12);
+    // The shapes read to tell the units are the shapes the translation gets: centred on the mass properties.
+    const atest::Translation t(bare->table(), 0);
+    REQUIRE(t.status() == MBX_OK);
+    const std::vector<atest::FindingCopy> findings = t.findings();
+    CHECK_FALSE(has_code(findings, "mass_mismatch"));
+    CHECK(has_code(findings, "simscape_no_data_units"));
 }
 
 }  // namespace MBX_UNITY_ID
