@@ -44,6 +44,7 @@
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "samples/tools/generate_pmxml.h"
 #include "mbx/mbx.h"
+#include "child_process.h"
 #include "peak_memory.h"
 #include "host_adapters/pmxml_vrml/pmxml_reader.h"
 
@@ -53,24 +54,8 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// User + system CPU seconds of this process so far (the scheduler's own
-// count: getrusage's moves in clock ticks, too coarse for 1k parts).
-double cpu_seconds() {
-    timespec t{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-// Wall and CPU time of a step.
-struct Timer {
-    Clock::time_point wall = Clock::now();
-    double cpu = cpu_seconds();
-    void stop(double& wall_out, double& cpu_out) const {
-        wall_out = since(wall);
-        cpu_out = cpu_seconds() - cpu;
-    }
-};
-
+using mbx_bench::in_child;
+using mbx_bench::Timer;
 using mbx_bench::reset_peak;
 using mbx_bench::status_kb;
 
@@ -152,27 +137,6 @@ Figures measure(Stage stage, const Paths& g) {
     translate(*adapter, true, stage == Stage::cli_path, f);
     f.peak_mb = double(status_kb("VmHWM:") - start_kb) / 1024.0;
     return f;
-}
-
-// Runs `work` in a child process and reads back what it returns, so that
-// neither the generator's nor an earlier stage's heap counts in a peak.
-template <class Result, class Work>
-bool in_child(Work work, Result& out) {
-    int fd[2];
-    if (pipe(fd) != 0) return false;
-    const pid_t pid = fork();
-    if (pid == 0) {
-        close(fd[0]);
-        const Result r = work();
-        if (write(fd[1], &r, sizeof r) != sizeof r) _exit(1);
-        _exit(0);
-    }
-    close(fd[1]);
-    const bool ok = read(fd[0], &out, sizeof out) == sizeof out;
-    close(fd[0]);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    return ok && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 // The best of `repeat` children: each step's least time, the least peak.

@@ -26,13 +26,11 @@
 #include "host_adapters/simscape/simscape_adapter.h"
 #include "host_adapters/simscape/simscape_reader.h"
 #include "mbx/mbx.h"
+#include "child_process.h"
+#include "peak_memory.h"
 #include "samples/tools/simscape_document.h"
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 [[noreturn]] void die(const char* what, const char* why) {
     std::fprintf(stderr, "%s: %s\n", what, why);
@@ -100,57 +98,83 @@ mbx_samples::SimscapeXmlDocument generate(int instances) {
     return d;
 }
 
-struct Best {
-    double bare = 1e30, reader = 1e30, open = 1e30, translated = 1e30;
+enum class Stage { pugixml, reader, open, translate };
+
+// What one child reports.
+struct Figures {
+    double wall = 0, cpu = 0, peak_mb = 0;
     unsigned rigid_bodies = 0;
 };
 
+Figures measure(Stage stage, const std::string& xml) {
+    Figures f;
+    const long start_kb = mbx_bench::status_kb("VmRSS:");
+    mbx_bench::reset_peak();
+    const mbx_bench::Timer t;
+    if (stage == Stage::pugixml) {
+        pugi::xml_document doc;
+        if (!doc.load_file(xml.c_str())) die("pugixml", "cannot parse");
+        t.stop(f.wall, f.cpu);
+    } else if (stage == Stage::reader) {
+        const mbx_files::SimscapeModel m = mbx_files::read_simscape(xml);
+        t.stop(f.wall, f.cpu);
+    } else {
+        const auto adapter = mbx_files::SimscapeAdapter::open(xml);
+        if (stage == Stage::open) {
+            t.stop(f.wall, f.cpu);
+        } else {
+            mbx_context* ctx = nullptr;
+            mbx_context_create(&ctx);
+            mbx_translate_options o{};
+            o.struct_size = sizeof o;
+            mbx_mechanism* mech = nullptr;
+            if (mbx_translate(ctx, adapter->table(), &o, &mech) != MBX_OK) die("translation", mbx_context_last_error(ctx));
+            t.stop(f.wall, f.cpu);
+            mbx_mechanism_summary s{};
+            s.struct_size = sizeof s;
+            mbx_mechanism_get_summary(mech, &s);
+            f.rigid_bodies = s.rigid_body_count;
+            mbx_mechanism_destroy(mech);
+            mbx_context_destroy(ctx);
+        }
+    }
+    f.peak_mb = double(mbx_bench::status_kb("VmHWM:") - start_kb) / 1024.0;
+    return f;
+}
+
+// Each stage in children of its own (best of three): the floor pays for its
+// fresh pages as the reader does, and no stage inherits another's heap.
 void run(int instances) {
     char dir[] = "/tmp/mbx_bench_simscape_XXXXXX";
     if (!mkdtemp(dir)) die("bench", "no temporary directory");
     const std::string xml = std::string(dir) + "/export.xml";
     mbx_samples::write_simscape_xml(xml, generate(instances));
     const double mb = double(std::filesystem::file_size(xml)) / 1e6;
-    Best best;
-    for (int repeat = 0; repeat < 3; ++repeat) {
-        Clock::time_point t = Clock::now();
-        {
-            pugi::xml_document doc;
-            if (!doc.load_file(xml.c_str())) die("pugixml", "cannot parse");
-            best.bare = std::min(best.bare, since(t));
+    Figures best[4];
+    for (int stage = 0; stage < 4; ++stage)
+        for (int repeat = 0; repeat < 3; ++repeat) {
+            Figures f;
+            if (!mbx_bench::in_child([&] { return measure(Stage(stage), xml); }, f)) die("bench", "a stage failed");
+            Figures& b = best[stage];
+            if (repeat == 0) {
+                b = f;
+                continue;
+            }
+            b.wall = std::min(b.wall, f.wall);
+            b.cpu = std::min(b.cpu, f.cpu);
+            b.peak_mb = std::min(b.peak_mb, f.peak_mb);
         }
-        t = Clock::now();
-        {
-            const mbx_files::SimscapeModel m = mbx_files::read_simscape(xml);
-            best.reader = std::min(best.reader, since(t));
-        }
-        t = Clock::now();
-        const auto adapter = mbx_files::SimscapeAdapter::open(xml);
-        best.open = std::min(best.open, since(t));
-        mbx_context* ctx = nullptr;
-        mbx_context_create(&ctx);
-        mbx_translate_options o{};
-        o.struct_size = sizeof o;
-        mbx_mechanism* mech = nullptr;
-        if (mbx_translate(ctx, adapter->table(), &o, &mech) != MBX_OK) die("translation", mbx_context_last_error(ctx));
-        best.translated = std::min(best.translated, since(t));
-        mbx_mechanism_summary s{};
-        s.struct_size = sizeof s;
-        mbx_mechanism_get_summary(mech, &s);
-        best.rigid_bodies = s.rigid_body_count;
-        mbx_mechanism_destroy(mech);
-        mbx_context_destroy(ctx);
-    }
     std::filesystem::remove_all(dir);
-    auto row = [&](const char* stage, double seconds) {
-        std::printf("  %-34s %9.1f ms %7.2fx %8.2f us/instance\n", stage, 1e3 * seconds, seconds / best.bare,
-                    1e6 * seconds / instances);
-    };
-    std::printf("%d instances, %.1f MB, %u rigid bodies after welds\n", instances, mb, best.rigid_bodies);
-    row("pugixml load_file (floor)", best.bare);
-    row("read_simscape", best.reader);
-    row("SimscapeAdapter::open", best.open);
-    row("open + mbx_translate", best.translated);
+    const Figures& floor = best[0];
+    std::printf("%d instances, %.1f MB, %u rigid bodies after welds\n", instances, mb, best[3].rigid_bodies);
+    std::printf("  %-30s %9s %7s %9s %7s %13s %9s %7s\n", "stage", "wall ms", "ratio", "cpu ms", "ratio", "cpu us/inst",
+                "peak MB", "ratio");
+    const char* names[] = {"pugixml load_file (floor)", "read_simscape", "SimscapeAdapter::open", "open + mbx_translate"};
+    for (int stage = 0; stage < 4; ++stage) {
+        const Figures& f = best[stage];
+        std::printf("  %-30s %9.1f %7.2f %9.1f %7.2f %13.2f %9.1f %7.2f\n", names[stage], 1e3 * f.wall, f.wall / floor.wall,
+                    1e3 * f.cpu, f.cpu / floor.cpu, 1e6 * f.cpu / instances, f.peak_mb, f.peak_mb / floor.peak_mb);
+    }
 }
 
 }  // namespace

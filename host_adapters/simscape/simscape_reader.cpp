@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <unordered_map>
 
 #include <pugixml.hpp>
@@ -92,17 +93,20 @@ private:
         model_.diagnostics.push_back(std::move(d));
     }
 
+    // XML's whitespace, without the locale lookup of std::isspace.
+    static bool xml_space(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r'; }
+
     // Exactly `count` numbers separated by whitespace: a child's text.
     void numbers(const pugi::xml_node& n, double* out, size_t count, const std::string& what) const {
         std::string_view text = n.text().get();
         size_t k = 0;
         while (true) {
             size_t start = 0;
-            while (start < text.size() && std::isspace(static_cast<unsigned char>(text[start]))) ++start;
+            while (start < text.size() && xml_space(text[start])) ++start;
             text.remove_prefix(start);
             if (text.empty()) break;
             size_t end = 0;
-            while (end < text.size() && !std::isspace(static_cast<unsigned char>(text[end]))) ++end;
+            while (end < text.size() && !xml_space(text[end])) ++end;
             const std::optional<double> x = parse_number(text.substr(0, end));
             if (!x) fail(n, what + ": " + q(text.substr(0, end)) + " is not a finite number");
             if (k == count) fail(n, what + ": more than " + std::to_string(count) + " numbers");
@@ -327,11 +331,10 @@ namespace {
 
 // Parses `text` in place (it is the reader's own copy): pugixml's offsets
 // are then those of the file, and nothing is copied again.
-SimscapeModel parse_owned(std::string& text, const std::string& file) {
-    const LineIndex lines(text);
+SimscapeModel parse_owned(char* text, size_t size, const std::string& file) {
+    const LineIndex lines(std::string_view(text, size));
     pugi::xml_document doc;
-    const pugi::xml_parse_result parsed =
-        doc.load_buffer_inplace(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
+    const pugi::xml_parse_result parsed = doc.load_buffer_inplace(text, size, pugi::parse_default, pugi::encoding_utf8);
     if (!parsed)
         throw FileError(file, lines.line_of(parsed.offset), std::string("not well-formed XML: ") + parsed.description());
     return Reader(lines, file).run(doc);
@@ -341,7 +344,7 @@ SimscapeModel parse_owned(std::string& text, const std::string& file) {
 
 SimscapeModel parse_simscape(std::string_view text, const std::string& file) {
     std::string copy(text);
-    return parse_owned(copy, file);
+    return parse_owned(copy.data(), copy.size(), file);
 }
 
 SimscapeModel read_simscape(const std::string& path) {
@@ -353,10 +356,11 @@ SimscapeModel read_simscape(const std::string& path) {
     if (!in) throw FileError(path, 0, std::string("cannot open the file: ") + std::strerror(errno));
     const uintmax_t size = std::filesystem::file_size(path, ec);
     if (ec) throw FileError(path, 0, "cannot read the file: " + ec.message());
-    std::string text(size_t(size), '\0');
-    in.read(text.data(), std::streamsize(size));
+    // Not a std::string: its zero fill would touch every page once more before the read does.
+    const std::unique_ptr<char[]> text(new char[size_t(size) + 1]);
+    in.read(text.get(), std::streamsize(size));
     if (size_t(in.gcount()) != size) throw FileError(path, 0, "cannot read the file");
-    return parse_owned(text, path);
+    return parse_owned(text.get(), size_t(size), path);
 }
 
 }  // namespace mbx_files
