@@ -154,3 +154,52 @@ TEST_CASE("cli: joint dynamics of a description file reach the report, the MJCF 
     CHECK(c.rows.back()[size_t(a)] > 1e-5);
 }
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("cli simulate and view: the four-bar's Simscape twin simulates as its PMXML sample does, and views with its STEP shapes") {
+    atest::TempDir dir("mbx_cli_simscape");
+    const std::string samples = std::string(MBX_SAMPLES_DIR) + "/fourbar_imperial/";
+    // The crank turned by 0.3 rad from the exported pose, released under gravity along the links' plane.
+    const std::string options = " --gravity 0,-9.81,0 --stop-time 0.4 --output-step 0.05";
+    const Run twin = run_cli(dir, "simulate '" + samples + "simscape/fourbar.xml' -o '" + dir.file("twin") +
+                                      "' --set GROUND_LINK--CRANK.q=0.3" + options);
+    INFO(twin.err);
+    REQUIRE(twin.code == 0);
+    const Run pmxml = run_cli(dir, "simulate '" + samples + "fourbar.xml' --shapes '" + samples + "fourbar_a.wrl' -o '" +
+                                       dir.file("pmxml") + "' --set 40:-:41.q=0.3" + options);
+    INFO(pmxml.err);
+    REQUIRE(pmxml.code == 0);
+    const Csv a = read_csv(dir.file("twin/trajectory.csv")), b = read_csv(dir.file("pmxml/trajectory.csv"));
+    REQUIRE(a.columns.size() == b.columns.size());
+    REQUIRE(a.rows.size() == b.rows.size());
+    REQUIRE(a.rows.size() == 9);
+    // The crank's angle moved (gravity acts) and the two runs agree to the PMXML's six digits.
+    const int crank = a.column("GROUND_LINK--CRANK.q");
+    REQUIRE(crank > 0);
+    CHECK(std::fabs(a.rows.back()[size_t(crank)] - 0.3) > 0.01);
+    for (size_t r = 0; r < a.rows.size(); ++r)
+        for (size_t k = 0; k < a.columns.size(); ++k) {
+            CAPTURE(a.columns[k]);
+            CHECK(a.rows[r][k] == mbx_test::within(b.rows[r][k], 1e-4 * (1 + std::fabs(b.rows[r][k])), "six digits"));
+        }
+    const std::string json = atest::read_file(dir.file("twin/simulation.json"));
+    const size_t at = json.find("\"max_loop_closure_residual\": ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(json.substr(at + 29)) < 1e-9);
+
+    // The view of the twin along that trajectory draws the parts' STEP meshes.
+    const Run view = run_cli(dir, "view '" + samples + "simscape/fourbar.xml' -o '" + dir.file("view") +
+                                      "' --trajectory '" + dir.file("twin/trajectory.csv") + "'");
+    INFO(view.err);
+    REQUIRE(view.code == 0);
+    CHECK(atest::read_file(dir.file("view/view.html")).size() > 10000);
+    // The same file without its STEP parts beside it has nothing to draw: the meshes were the STEP files'.
+    atest::write_file(dir.file("bare.xml"), atest::read_file(samples + "simscape/fourbar.xml"));
+    const Run bare = run_cli(dir, "view '" + dir.file("bare.xml") + "' -o '" + dir.file("bare_view") + "' --still");
+    CHECK(bare.code != 0);
+    CHECK(bare.err.find("no body of the model has a mesh") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("bare_view/view.html")));
+}
+
+}  // namespace MBX_UNITY_ID
