@@ -38,6 +38,9 @@ const char* kInputOptionsHelp =
     "              pose (bodies whose XML names a mesh file keep that mesh)\n"
     "  --mesh-dir <dir>  also look here for the mesh files the XML names, after the XML's own directory\n"
     "              (file names match ignoring case; repeatable)\n"
+    "  --package-path <name>=<dir>  a URDF's package://<name>/... paths are in <dir> (repeatable; <name> may\n"
+    "              hold several path segments; then ROS_PACKAGE_PATH is searched)\n"
+    "  --floating-base  a URDF's root link moves freely (six freedoms) instead of being fixed to the world\n"
     "  --no-mass-check  for file inputs, skip comparing each closed mesh's centroid with the CAD centre of\n"
     "              mass (done by default; reported per part)\n"
     "  --progress  print stages to stderr\n"
@@ -56,6 +59,16 @@ int parse_input_option(const std::vector<std::string>& args, size_t& i, InputOpt
         o.file_options.shapes_path = args[++i];
     } else if (a == "--mesh-dir" && has_value) {
         o.file_options.mesh_dirs.push_back(args[++i]);
+    } else if (a == "--package-path" && has_value) {
+        const std::string& value = args[++i];
+        const size_t equals = value.find('=');
+        if (equals == std::string::npos || equals == 0 || equals + 1 == value.size()) {
+            std::fprintf(stderr, "mbx %s: --package-path takes <name>=<dir>, not '%s'\n", command, value.c_str());
+            return 2;
+        }
+        o.file_options.package_paths.push_back({value.substr(0, equals), value.substr(equals + 1)});
+    } else if (a == "--floating-base") {
+        o.file_options.floating_base = true;
     } else if (a == "--no-mass-check") {
         o.mass_check = false;
     } else if (a == "--progress") {
@@ -110,8 +123,10 @@ int open_input(const InputOptions& o, const char* command, OpenedInput& out) {
     const std::string& input = o.input;
     const mbx_files::InputFormat* format = mbx_files::input_format_of(input);
     out.file_input = format != nullptr;
-    if (!out.file_input && (!o.file_options.shapes_path.empty() || !o.file_options.mesh_dirs.empty())) {
-        std::fprintf(stderr, "mbx %s: --shapes and --mesh-dir apply to file inputs only\n", command);
+    if (!out.file_input && (!o.file_options.shapes_path.empty() || !o.file_options.mesh_dirs.empty() ||
+                            !o.file_options.package_paths.empty() || o.file_options.floating_base)) {
+        std::fprintf(stderr, "mbx %s: --shapes, --mesh-dir, --package-path and --floating-base apply to file inputs only\n",
+                     command);
         return 2;
     }
     if (format && !format->takes_scene && !o.file_options.shapes_path.empty()) {
@@ -157,9 +172,15 @@ int open_input(const InputOptions& o, const char* command, OpenedInput& out) {
     options.length_tolerance = o.length_tolerance;
     if (out.file_input && o.mass_check) options.flags = MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
     // Libraries and drives are read before translating, so a typo in them
-    // costs no translation time.
-    if (!o.libraries.empty() || !o.drives_path.empty() || o.collision_hulls) {
+    // costs no translation time. What the input file itself describes (a
+    // URDF's joint dynamics and collision shapes) comes first; the user's
+    // description file refines it.
+    const std::string own_description = out.adapter ? out.adapter->description() : std::string();
+    if (!o.libraries.empty() || !o.drives_path.empty() || o.collision_hulls || !own_description.empty()) {
         if (mbx_mechatronics_create(out.ctx, &out.mechatronics) != MBX_OK) return fail(out, MBX_ERROR_OUT_OF_MEMORY, "setup");
+        if (!own_description.empty() &&
+            mbx_mechatronics_load_drives_text(out.ctx, out.mechatronics, own_description.c_str(), input.c_str()) != MBX_OK)
+            return fail_input(out);
         for (const std::string& lib : o.libraries)
             if (mbx_mechatronics_load_library(out.ctx, out.mechatronics, lib.c_str()) != MBX_OK) return fail_input(out);
         if (!o.drives_path.empty() &&

@@ -18,6 +18,11 @@ struct FileInputOptions {
     // Searched for the mesh files a model names after the input's own folder.
     std::vector<std::string> mesh_dirs;
     MatchOptions match;  // pose matching of scene shapes to bodies
+    // ROS package name -> its folder, for `package://name/...` paths (URDF);
+    // searched before ROS_PACKAGE_PATH.
+    std::vector<std::pair<std::string, std::string>> package_paths;
+    // A URDF's root link free in space instead of fixed to the world.
+    bool floating_base = false;
 };
 
 class FileInput {
@@ -26,6 +31,11 @@ public:
     // The host table; valid as long as this object. A mechanism translated
     // from it must be destroyed, or must release the host, before this.
     virtual const mbx_host* table() const = 0;
+    // What the file says beyond the assembly (a URDF's joint dynamics and
+    // collision shapes) as the text of a description file
+    // (docs/mechatronics.md), keyed by the same ids; "" when nothing. Loaded
+    // before the user's description file, which refines it.
+    virtual std::string description() const { return {}; }
 };
 
 }  // namespace mbx_files

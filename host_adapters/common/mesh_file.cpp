@@ -200,6 +200,10 @@ bool load_mesh_file(const std::string& path, mbx_memory::Mesh& out, std::string&
     // would not weld corners of differently facing facets and no mesh would be closed.
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS);
+    // A Collada file's vertices are in the part's (the link's) frame as CAD
+    // and robot exporters write them; assimp would otherwise turn a Z_UP file
+    // (Blender's, the Franka Panda's) onto its own Y-up convention.
+    importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
     const aiScene* scene =
         importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     if (!scene || !scene->mRootNode) {

@@ -8,6 +8,8 @@
 #include "host_adapters/pmxml_vrml/file_adapter.h"
 #include "host_adapters/simscape/simscape_adapter.h"
 #include "host_adapters/simscape/simscape_reader.h"
+#include "host_adapters/urdf/urdf_adapter.h"
+#include "host_adapters/urdf/urdf_reader.h"
 #include "host_adapters/common/text.h"
 
 namespace mbx_files {
@@ -20,6 +22,10 @@ std::unique_ptr<FileInput> open_pmxml(const std::string& path, const FileInputOp
 
 std::unique_ptr<FileInput> open_simscape(const std::string& path, const FileInputOptions& options) {
     return SimscapeAdapter::open(path, options);
+}
+
+std::unique_ptr<FileInput> open_urdf(const std::string& path, const FileInputOptions& options) {
+    return UrdfAdapter::open(path, options);
 }
 
 std::string lower_extension(const std::string& path) {
@@ -99,6 +105,12 @@ const std::vector<InputFormat>& input_formats() {
          {kSimscapeRootElement, kSimMechanicsImportRootElement},
          false,
          open_simscape},
+        {"urdf",
+         "URDF robot description (ROS); meshes relative to it, absolute or package:// (--package-path)",
+         {".urdf"},
+         {kUrdfRootElement},
+         false,
+         open_urdf},
     };
     return formats;
 }

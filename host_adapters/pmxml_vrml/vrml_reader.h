@@ -18,7 +18,7 @@
 // Geometry. IndexedFaceSet (coord, coordIndex, ccw; faces fan-triangulated,
 // which assumes convex faces; faces with fewer than 3 vertices skipped with
 // a warning), Box (exact), Sphere, Cylinder and Cone (24 facets around; see
-// vrml_primitives.h). Other geometry (ElevationGrid, Extrusion, Text, ...)
+// primitive_meshes.h). Other geometry (ElevationGrid, Extrusion, Text, ...)
 // is skipped with a warning. DEF/USE works for any node, including
 // Coordinate and geometry nodes; a PROTO instance works anywhere its first
 // body node would (child, geometry or coord), with IS fields taking the

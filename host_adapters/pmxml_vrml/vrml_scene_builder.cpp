@@ -8,7 +8,7 @@
 #include <system_error>
 
 #include "vrml_inline_paths.h"
-#include "vrml_primitives.h"
+#include "host_adapters/common/primitive_meshes.h"
 
 namespace fs = std::filesystem;
 

@@ -102,6 +102,17 @@ MBX_API mbx_status mbx_mechatronics_load_drives(mbx_context* context, mbx_mechat
     });
 }
 
+MBX_API mbx_status mbx_mechatronics_load_drives_text(mbx_context* context, mbx_mechatronics* m, const char* text,
+                                                     const char* name) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!m || !text) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or text is NULL");
+    const std::string file = name && name[0] ? name : "<description text>";
+    return guarded(context, [&] {
+        load_all_or_nothing(m, "drive description '" + file + "' has problems",
+                            [&](MechatronicSpec& s, std::vector<DriveError>& e) { load_drive_text(text, file, "", s, e); });
+    });
+}
+
 MBX_API mbx_status mbx_mechatronics_add_drive(mbx_context* context, mbx_mechatronics* m, const mbx_drive_desc* desc) {
     if (!context) return MBX_ERROR_INVALID_ARGUMENT;
     if (!m || !desc) return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechatronics or drive is NULL");

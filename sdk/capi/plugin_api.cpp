@@ -76,6 +76,7 @@ const mbx_api kApi = {
     mbx_mechanism_collision_shape_count,
     mbx_mechanism_write_view,
     mbx_mechatronics_set_body_correction,
+    mbx_mechatronics_load_drives_text,
 };
 
 }  // namespace

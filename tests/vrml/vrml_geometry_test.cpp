@@ -4,7 +4,7 @@
 
 #include <doctest/doctest.h>
 
-#include "host_adapters/pmxml_vrml/vrml_primitives.h"
+#include "host_adapters/common/primitive_meshes.h"
 #include "vrml_test_support.h"
 #include "tests/common/near.h"
 

@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 10u
+#define MBX_ABI_VERSION 11u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -673,6 +673,12 @@ MBX_API mbx_status mbx_mechatronics_load_library_text(mbx_context *context, mbx_
  * names. Errors as for libraries; nothing of a file with problems is kept. */
 MBX_API mbx_status mbx_mechatronics_load_drives(mbx_context *context, mbx_mechatronics *mechatronics,
                                                 const char *path);
+/* (ABI 11) The same from text: `name` names it in messages; libraries it
+ * names are found relative to the current directory. A file adapter's own
+ * description of its input (a URDF's joint dynamics and collision shapes)
+ * arrives this way, before the user's description file refines it. */
+MBX_API mbx_status mbx_mechatronics_load_drives_text(mbx_context *context, mbx_mechatronics *mechatronics,
+                                                     const char *text, const char *name);
 /* Adds one drive (replacing a drive on the same joint). Checked for form
  * here, against the library and the mechanism by mbx_mechanism_set_mechatronics. */
 MBX_API mbx_status mbx_mechatronics_add_drive(mbx_context *context, mbx_mechatronics *mechatronics,
@@ -1199,6 +1205,8 @@ typedef struct mbx_api {
     mbx_status (*mechanism_write_view)(mbx_context *, mbx_mechanism *, const mbx_view_options *, const char *);
     /* --- version 10 --- */
     mbx_status (*mechatronics_set_body_correction)(mbx_context *, mbx_mechatronics *, const mbx_body_correction_desc *);
+    /* --- version 11 --- */
+    mbx_status (*mechatronics_load_drives_text)(mbx_context *, mbx_mechatronics *, const char *, const char *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

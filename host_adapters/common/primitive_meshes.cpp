@@ -1,4 +1,4 @@
-#include "vrml_primitives.h"
+#include "primitive_meshes.h"
 
 #include <cmath>
 

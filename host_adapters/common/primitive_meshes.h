@@ -1,5 +1,6 @@
-// Closed triangle meshes for the VRML97 primitive geometry nodes, in the
-// node's local frame as clause 6 defines it (centred on the origin, Y up for
+// Closed triangle meshes for primitive geometry (the VRML97 nodes, URDF's
+// box, cylinder and sphere), in the node's local frame as VRML97 clause 6
+// defines it (centred on the origin, Y up for
 // Cylinder and Cone), counter-clockwise seen from outside. Curved surfaces
 // use `segments` facets around the Y axis, so volumes come out slightly
 // below the analytic ones.
