@@ -1503,3 +1503,37 @@ TEST_CASE("mechatronics api: drives from a file that do not fit name the file, l
     CHECK(api().mechanism_drive_count(r.get()) == 0);
 }
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("mechatronics api: a description given as text (ABI 11) loads as its file does, its errors name the text and line") {
+    const Run r = translate_builtin("six_axis_arm");
+    REQUIRE(r.status == MBX_OK);
+    mbx_context* ctx = r.context.get();
+    const mbx_api& a = api();
+    REQUIRE(a.struct_size >= offsetof(mbx_api, mechatronics_load_drives_text) + sizeof(void*));
+    const std::string j1 = revolute_constraints(r.get())[0];
+    MechatronicsPtr mt = make_mechatronics(ctx);
+    const std::string good = "<mechatronics version=\"1\">\n  <joint constraint=\"" + j1 + "\" damping=\"0.5\" coulomb=\"2\"/>\n</mechatronics>\n";
+    REQUIRE_MESSAGE(a.mechatronics_load_drives_text(ctx, mt.get(), good.c_str(), "robot.urdf") == MBX_OK,
+                    a.context_last_error(ctx));
+    REQUIRE_MESSAGE(a.mechanism_set_mechatronics(ctx, r.get(), mt.get()) == MBX_OK, a.context_last_error(ctx));
+    // The same text from a file gives the same report section.
+    TempDir dir("mbx_drives_text");
+    { std::ofstream(dir.file("d.xml")) << good; }
+    MechatronicsPtr from_file = make_mechatronics(ctx);
+    REQUIRE(a.mechatronics_load_drives(ctx, from_file.get(), dir.file("d.xml").c_str()) == MBX_OK);
+
+    const std::string bad = "<mechatronics version=\"1\">\n  <joint constraint=\"" + j1 + "\" damping=\"-1\"/>\n</mechatronics>\n";
+    CHECK(a.mechatronics_load_drives_text(ctx, mt.get(), bad.c_str(), "robot.urdf") == MBX_ERROR_INVALID_INPUT);
+    const LastError e = last_error(ctx);
+    CHECK(contains(e.message, "robot.urdf"));
+    CHECK(e.line == 2);
+    CHECK(a.mechatronics_load_drives_text(ctx, mt.get(), "<mechatronics", nullptr) == MBX_ERROR_INVALID_INPUT);
+    CHECK(contains(last_error(ctx).message, "<description text>"));
+    CHECK(a.mechatronics_load_drives_text(nullptr, mt.get(), good.c_str(), "x") == MBX_ERROR_INVALID_ARGUMENT);
+    CHECK(a.mechatronics_load_drives_text(ctx, nullptr, good.c_str(), "x") == MBX_ERROR_INVALID_ARGUMENT);
+    CHECK(a.mechatronics_load_drives_text(ctx, mt.get(), nullptr, "x") == MBX_ERROR_INVALID_ARGUMENT);
+}
+
+}  // namespace MBX_UNITY_ID
