@@ -4,11 +4,12 @@
 // (the parts shared ten to one); every tenth is hinged to the one before by a
 // revolute joint, the others are welded to it as fasteners are, and every
 // hundred instances sit in a sub-assembly of their own. Printed per size,
-// best of three runs: the bare parse, read_simscape, SimscapeAdapter::open
-// (reader + host assembly; STEP files load only when shapes are asked for)
-// and open + mbx_translate (what `mbx translate export.xml --format none`
-// does before its report), each as milliseconds, as a ratio to the bare
-// parse and per instance.
+// best of five runs, each in a child process of its own: the bare parse,
+// read_simscape, SimscapeAdapter::open (reader + host assembly; STEP files
+// load only when shapes are asked for) and open + mbx_translate (what `mbx
+// translate export.xml --format none` does before its report), each as wall
+// and CPU milliseconds and peak memory, as ratios to the bare parse, and as
+// CPU microseconds per instance.
 //
 //   bench_simscape [instances ...]   (default: 1000 10000)
 #include <unistd.h>
@@ -142,7 +143,8 @@ Figures measure(Stage stage, const std::string& xml) {
     return f;
 }
 
-// Each stage in children of its own (best of three): the floor pays for its
+// Each stage in children of its own (best of five: this 2-CPU VM's
+// times vary by a fifth from run to run): the floor pays for its
 // fresh pages as the reader does, and no stage inherits another's heap.
 void run(int instances) {
     char dir[] = "/tmp/mbx_bench_simscape_XXXXXX";
@@ -152,7 +154,7 @@ void run(int instances) {
     const double mb = double(std::filesystem::file_size(xml)) / 1e6;
     Figures best[4];
     for (int stage = 0; stage < 4; ++stage)
-        for (int repeat = 0; repeat < 3; ++repeat) {
+        for (int repeat = 0; repeat < 5; ++repeat) {
             Figures f;
             if (!mbx_bench::in_child([&] { return measure(Stage(stage), xml); }, f)) die("bench", "a stage failed");
             Figures& b = best[stage];

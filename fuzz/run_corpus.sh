@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table step step_mesh simscape)
+((${#targets[@]})) || targets=(pmxml vrml object_library drive_file experiment csv host_table step step_mesh simscape urdf)
 bash .ci/install-deps  # clang-15, libfuzzer-15-dev, libomp-15-dev among them
 dir=$(bash .ci/configure sanitize)
 out=${MBX_FUZZ_OUT:-$dir/artifacts}
@@ -29,7 +29,7 @@ run_target() {
   local t=$1 dict=() status=0
   case $t in
     vrml) dict=(-dict=fuzz/dict/vrml.dict) ;;
-    pmxml | object_library | drive_file | experiment | simscape) dict=(-dict=fuzz/dict/xml.dict) ;;
+    pmxml | object_library | drive_file | experiment | simscape | urdf) dict=(-dict=fuzz/dict/xml.dict) ;;
     step | step_mesh) dict=(-dict=fuzz/dict/step.dict) ;;
   esac
   # The STEP reader also starts from real parts (../shared, read only).

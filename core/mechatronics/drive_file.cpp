@@ -300,7 +300,16 @@ private:
         if (const auto it = seen_joints_.find(key); it != seen_joints_.end() && !j.joint.constraint_id.empty())
             error(n, who, "a second <joint> for the same joint (the first is at line " + std::to_string(it->second) + ")");
         else seen_joints_.emplace(key, j.line);
-        if (!bad_) spec_.joint_dynamics.push_back(std::move(j));
+        if (bad_) return;
+        // A later description refines an earlier one (the user's file over a
+        // URDF's own): its <joint> replaces what another file gave that joint.
+        for (JointDynamicsSpec& earlier : spec_.joint_dynamics)
+            if (earlier.file != j.file && earlier.joint.constraint_id == j.joint.constraint_id &&
+                earlier.joint.primitive == j.joint.primitive) {
+                earlier = std::move(j);
+                return;
+            }
+        spec_.joint_dynamics.push_back(std::move(j));
     }
 
     void controller(const pugi::xml_node& c, const std::string& who, ControllerSpec& out) {

@@ -1,5 +1,6 @@
 #include "simscape_reader.h"
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -38,6 +39,35 @@ pugi::xml_node child(const pugi::xml_node& parent, std::string_view name) {
 }
 
 std::string q(std::string_view s) { return "'" + std::string(s) + "'"; }
+
+// What an error message names ("Revolute joint 'elbow' <BaseFrame>
+// <Rotation>"), kept as pieces into the parsed text and put together only
+// when there is an error: building it for every element cost a string
+// allocation or three per instance and joint.
+class Who {
+public:
+    // "<kind><noun> '<name>'": ("part", name), ("Revolute", name, " joint").
+    Who(std::string_view kind, std::string_view name, std::string_view noun = {}) {
+        add(kind), add(noun), add(" '"), add(name), add("'");
+    }
+    Who with(std::string_view tail) const {
+        Who w = *this;
+        w.add(tail);
+        return w;
+    }
+    std::string str() const {
+        std::string out;
+        for (size_t k = 0; k < count_; ++k) out += pieces_[k];
+        return out;
+    }
+
+private:
+    void add(std::string_view piece) {
+        if (count_ < pieces_.size()) pieces_[count_++] = piece;
+    }
+    std::array<std::string_view, 8> pieces_{};
+    size_t count_ = 0;
+};
 
 class Reader {
 public:
@@ -97,7 +127,7 @@ private:
     static bool xml_space(char c) { return c == ' ' || c == '\n' || c == '\t' || c == '\r'; }
 
     // Exactly `count` numbers separated by whitespace: a child's text.
-    void numbers(const pugi::xml_node& n, double* out, size_t count, const std::string& what) const {
+    void numbers(const pugi::xml_node& n, double* out, size_t count, const Who& who) const {
         std::string_view text = n.text().get();
         size_t k = 0;
         while (true) {
@@ -108,32 +138,33 @@ private:
             size_t end = 0;
             while (end < text.size() && !xml_space(text[end])) ++end;
             const std::optional<double> x = parse_number(text.substr(0, end));
-            if (!x) fail(n, what + ": " + q(text.substr(0, end)) + " is not a finite number");
-            if (k == count) fail(n, what + ": more than " + std::to_string(count) + " numbers");
+            if (!x) fail(n, who.str() + ": " + q(text.substr(0, end)) + " is not a finite number");
+            if (k == count) fail(n, who.str() + ": more than " + std::to_string(count) + " numbers");
             out[k++] = *x;
             text.remove_prefix(end);
         }
-        if (k != count) fail(n, what + ": " + std::to_string(k) + " numbers where " + std::to_string(count) + " belong");
+        if (k != count)
+            fail(n, who.str() + ": " + std::to_string(k) + " numbers where " + std::to_string(count) + " belong");
     }
 
-    SimscapeTransform transform(const pugi::xml_node& t, const std::string& who) const {
+    SimscapeTransform transform(const pugi::xml_node& t, const Who& who) const {
         SimscapeTransform out;
         if (!t) return out;
         const pugi::xml_node r = child(t, "Rotation"), p = child(t, "Translation");
         if (r) {
             double m[9];
-            numbers(r, m, 9, who + " <Rotation>");
+            numbers(r, m, 9, who.with(" <Rotation>"));
             for (int i = 0; i < 3; ++i)
                 for (int j = 0; j < 3; ++j) out.rotation(i, j) = m[3 * i + j];
             const double error =
                 (out.rotation.transpose() * out.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
             if (error > kRotationLimit || !(out.rotation.determinant() > 0))
-                fail(r, who + " <Rotation> is not a rotation (max |R^T R - I| = " + std::to_string(error) +
+                fail(r, who.str() + " <Rotation> is not a rotation (max |R^T R - I| = " + std::to_string(error) +
                             ", determinant " + std::to_string(out.rotation.determinant()) + ")");
         }
         if (p) {
             double v[3];
-            numbers(p, v, 3, who + " <Translation>");
+            numbers(p, v, 3, who.with(" <Translation>"));
             out.translation = Eigen::Vector3d(v[0], v[1], v[2]);
         }
         return out;
@@ -173,16 +204,16 @@ private:
         part.name = p.attribute("name").value();
         part.line = line(p);
         if (part.uid.empty()) fail(p, "part " + q(part.name) + " has no uid");
-        const std::string who = "part " + q(part.name);
+        const Who who("part", p.attribute("name").value());
         if (const pugi::xml_node mp = child(p, "MassProperties")) {
             part.has_mass_properties = true;
             double m = 0, c[3], i[6];
             const pugi::xml_node mass = child(mp, "Mass"), com = child(mp, "CenterOfMass"), inertia = child(mp, "Inertia");
-            if (!mass || !com || !inertia) fail(mp, who + ": <MassProperties> needs <Mass>, <CenterOfMass> and <Inertia>");
-            numbers(mass, &m, 1, who + " <Mass>");
-            numbers(com, c, 3, who + " <CenterOfMass>");
-            numbers(inertia, i, 6, who + " <Inertia>");
-            if (m < 0) fail(mass, who + ": a negative mass");
+            if (!mass || !com || !inertia) fail(mp, who.str() + ": <MassProperties> needs <Mass>, <CenterOfMass> and <Inertia>");
+            numbers(mass, &m, 1, who.with(" <Mass>"));
+            numbers(com, c, 3, who.with(" <CenterOfMass>"));
+            numbers(inertia, i, 6, who.with(" <Inertia>"));
+            if (m < 0) fail(mass, who.str() + ": a negative mass");
             part.mass = m;
             part.com = Eigen::Vector3d(c[0], c[1], c[2]);
             // Ixx Iyy Izz Iyz Izx Ixy, the products already as the tensor's entries.
@@ -209,7 +240,7 @@ private:
                 }
             }
         if (!parts_by_uid_.emplace(part.uid, int(model_.parts.size())).second)
-            fail(p, who + ": uid " + q(part.uid) + " names another part already");
+            fail(p, who.str() + ": uid " + q(part.uid) + " names another part already");
         model_.parts.push_back(std::move(part));
     }
 
@@ -236,8 +267,8 @@ private:
         in.rigid = std::string_view(n.attribute("rigid").value()) == "true";
         in.rigid_group = n.attribute("rigidGroup").value();
         in.parent = parent;
-        const std::string who = "instance " + q(in.name);
-        if (in.uid.empty()) fail(n, who + " has no uid");
+        const Who who("instance", n.attribute("name").value());
+        if (in.uid.empty()) fail(n, who.str() + " has no uid");
         in.local = transform(child(n, "Transform"), who);
         if (const auto it = parts_by_uid_.find(in.entity_uid); it != parts_by_uid_.end()) in.part = it->second;
         else if (const auto a = assemblies_by_uid_.find(in.entity_uid); a != assemblies_by_uid_.end()) in.assembly = a->second;
@@ -259,18 +290,18 @@ private:
         SimscapeInstance& self = model_.instances[size_t(index)];
         if (self.part < 0 && self.assembly < 0 && self.children.empty())
             note(n, MBX_SEVERITY_WARNING, "simscape_missing_part",
-                 who + " names " + (self.entity_uid.empty() ? std::string("no part") : "part " + q(self.entity_uid)) +
+                 who.str() + " names " + (self.entity_uid.empty() ? std::string("no part") : "part " + q(self.entity_uid)) +
                      ", which the file does not hold; the instance is left out");
     }
 
-    SimscapeFrameRef frame_ref(const pugi::xml_node& f, const std::string& who) const {
+    SimscapeFrameRef frame_ref(const pugi::xml_node& f, const Who& who) const {
         SimscapeFrameRef ref;
         ref.line = line(f);
         const pugi::xml_node path = child(f, "InstancePath");
-        if (!path) fail(f, who + ": no <InstancePath>");
+        if (!path) fail(f, who.str() + ": no <InstancePath>");
         for (const pugi::xml_node& u : path.children())
             if (u.type() == pugi::node_element && local_name(u) == "Uid") ref.path.push_back(u.text().get());
-        if (ref.path.empty()) fail(path, who + ": an empty <InstancePath>");
+        if (ref.path.empty()) fail(path, who.str() + ": an empty <InstancePath>");
         ref.transform = transform(child(f, "Transform"), who);
         return ref;
     }
@@ -282,11 +313,11 @@ private:
             joint.type = std::string(local_name(j));
             joint.name = j.attribute("name").value();
             joint.line = line(j);
-            const std::string who = joint.type + " joint " + q(joint.name);
+            const Who who(local_name(j), j.attribute("name").value(), " joint");
             const pugi::xml_node base = child(j, "BaseFrame"), follower = child(j, "FollowerFrame");
-            if (!base || !follower) fail(j, who + " needs a <BaseFrame> and a <FollowerFrame>");
-            joint.base = frame_ref(base, who + " <BaseFrame>");
-            joint.follower = frame_ref(follower, who + " <FollowerFrame>");
+            if (!base || !follower) fail(j, who.str() + " needs a <BaseFrame> and a <FollowerFrame>");
+            joint.base = frame_ref(base, who.with(" <BaseFrame>"));
+            joint.follower = frame_ref(follower, who.with(" <FollowerFrame>"));
             out.joints.push_back(std::move(joint));
         }
         for (const pugi::xml_node& c : child(assembly, "Constraints").children()) {
@@ -295,7 +326,7 @@ private:
             mate.type = std::string(local_name(c));
             mate.name = c.attribute("name").value();
             mate.line = line(c);
-            const std::string who = mate.type + " mate " + q(mate.name);
+            const Who who(local_name(c), c.attribute("name").value(), " mate");
             for (const pugi::xml_node& g : c.children()) {
                 if (g.type() != pugi::node_element || local_name(g) != "ConstraintGeometry") continue;
                 SimscapeMateGeometry geometry;
@@ -305,12 +336,12 @@ private:
                 if (child(g, "InstancePath")) geometry.at = frame_ref(g, who);
                 double v[3];
                 if (const pugi::xml_node p = child(g, "Position")) {
-                    numbers(p, v, 3, who + " <Position>");
+                    numbers(p, v, 3, who.with(" <Position>"));
                     geometry.position = Eigen::Vector3d(v[0], v[1], v[2]);
                     geometry.has_position = true;
                 }
                 if (const pugi::xml_node a = child(g, "Axis")) {
-                    numbers(a, v, 3, who + " <Axis>");
+                    numbers(a, v, 3, who.with(" <Axis>"));
                     geometry.axis = Eigen::Vector3d(v[0], v[1], v[2]);
                     geometry.has_axis = true;
                 }

@@ -246,19 +246,24 @@ def _fields(struct, names):
 
 
 def translate(path, shapes=None, mesh_dirs: Sequence = (), mass_check: bool = True, length_tolerance: float = 0.0,
-              centroid_tolerance: float = 0.0) -> "Mechanism":
+              centroid_tolerance: float = 0.0, package_paths=None, floating_base: bool = False) -> "Mechanism":
     """Translates a CAD export into a :class:`Mechanism`, as ``mbx translate``
     does. Its format is told from its XML root element or extension, as
     ``mbx formats`` lists (today SimMechanics first-generation XML, PMXML).
 
     ``shapes`` names a VRML97 scene whose shapes are matched to the bodies by
     pose; ``mesh_dirs`` are searched for the mesh files the XML names after
-    its own folder. ``mass_check`` compares every closed mesh's centroid with
+    its own folder. For a URDF, ``package_paths`` maps ROS package names to
+    folders (``{"name": dir}``, as ``--package-path name=dir``; then
+    ROS_PACKAGE_PATH), ``floating_base`` frees its root link, and its joint
+    dynamics and collision shapes are attached as its description (docs/urdf.md).
+    ``mass_check`` compares every closed mesh's centroid with
     the CAD centre of mass (findings ``mass_mismatch``). Tolerances of 0 take
     the SDK's defaults. Raises :class:`MbxError` naming the file and line for
     an unreadable input.
     """
-    return Mechanism._from_file(path, shapes, mesh_dirs, mass_check, length_tolerance, centroid_tolerance)
+    return Mechanism._from_file(path, shapes, mesh_dirs, mass_check, length_tolerance, centroid_tolerance,
+                                dict(package_paths or {}), floating_base)
 
 
 class Mechanism:
@@ -271,14 +276,16 @@ class Mechanism:
         raise TypeError("use mbx.translate(...) to make a Mechanism")
 
     @classmethod
-    def _from_file(cls, path, shapes, mesh_dirs, mass_check, length_tolerance, centroid_tolerance):
+    def _from_file(cls, path, shapes, mesh_dirs, mass_check, length_tolerance, centroid_tolerance,
+                   package_paths=None, floating_base=False):
         self = object.__new__(cls)
         self._handle = None
         self._files = None
         self._children = []
         self._ctx = _Context()
+        self.source = os.fspath(path)
         try:
-            self._open_files(path, shapes, mesh_dirs)
+            self._open_files(path, shapes, mesh_dirs, package_paths or {}, floating_base)
             options = _lib.new(_lib.TranslateOptions)
             options.length_tolerance = length_tolerance
             options.centroid_tolerance = centroid_tolerance
@@ -287,13 +294,16 @@ class Mechanism:
             self._ctx.check(_c.mbx_translate(self._ctx.handle, _lib.files_lib().mbx_files_host(self._files),
                                              ctypes.byref(options), ctypes.byref(handle)))
             self._handle = handle
+            self._own_description = _s(_lib.files_lib().mbx_files_description(self._files))
+            if self._own_description:
+                self.attach_drives(None)
         except BaseException:
             self.close()
             raise
         self.source = os.fspath(path)
         return self
 
-    def _open_files(self, path, shapes, mesh_dirs):
+    def _open_files(self, path, shapes, mesh_dirs, package_paths, floating_base):
         files = _lib.files_lib()
         options = _lib.new(_lib.FilesOptions)
         options.shapes = _b(shapes)
@@ -301,6 +311,11 @@ class Mechanism:
         array = (ctypes.c_char_p * max(1, len(dirs)))(*dirs)
         options.mesh_dirs = array
         options.mesh_dir_count = len(dirs)
+        packages = [os.fsencode(name) + b"=" + os.fsencode(d) for name, d in package_paths.items()]
+        package_array = (ctypes.c_char_p * max(1, len(packages)))(*packages)
+        options.package_paths = package_array
+        options.package_path_count = len(packages)
+        options.floating_base = 1 if floating_base else 0
         error = _lib.new(_lib.FilesError)
         handle = ctypes.c_void_p()
         if files.mbx_files_open(_b(path), ctypes.byref(options), ctypes.byref(handle), ctypes.byref(error)) != 0:
@@ -443,14 +458,20 @@ class Mechanism:
         """Attaches the drives and joint dynamics of a description file
         (``--drives``, docs/mechatronics.md), loading the object ``libraries``
         first (the file's own libraries load by themselves). ``None``
-        detaches every drive. Raises :class:`MbxError` listing every problem."""
-        if drives is None and not libraries:
+        detaches every drive. What the input itself describes (a URDF's joint
+        dynamics and collision shapes) stays, under the file's refinements.
+        Raises :class:`MbxError` listing every problem."""
+        own = getattr(self, "_own_description", "")
+        if drives is None and not libraries and not own:
             self._ctx.check(_c.mbx_mechanism_set_mechatronics(self._ctx.handle, self._live(), None))
             self.drives_file = None
             return
         handle = ctypes.c_void_p()
         self._ctx.check(_c.mbx_mechatronics_create(self._ctx.handle, ctypes.byref(handle)))
         try:
+            if own:
+                self._ctx.check(_c.mbx_mechatronics_load_drives_text(self._ctx.handle, handle, _b(own),
+                                                                     _b(self.source)))
             for library in libraries:
                 self._ctx.check(_c.mbx_mechatronics_load_library(self._ctx.handle, handle, _b(library)))
             if drives is not None:

@@ -169,7 +169,9 @@ class CalibrationParameter(ctypes.Structure):
 class FilesOptions(ctypes.Structure):
     """mbx_files_options (mbx/mbx_files.h)."""
     _fields_ = [("struct_size", ctypes.c_uint32), ("shapes", ctypes.c_char_p),
-                ("mesh_dirs", ctypes.POINTER(ctypes.c_char_p)), ("mesh_dir_count", ctypes.c_uint32)]
+                ("mesh_dirs", ctypes.POINTER(ctypes.c_char_p)), ("mesh_dir_count", ctypes.c_uint32),
+                ("package_paths", ctypes.POINTER(ctypes.c_char_p)), ("package_path_count", ctypes.c_uint32),
+                ("floating_base", ctypes.c_int32)]
 
 
 class FilesError(ctypes.Structure):
@@ -218,6 +220,7 @@ _PROTOTYPES = {
     "mbx_mechatronics_destroy": (None, [_P]),
     "mbx_mechatronics_load_library": (_S, [_P, _P, _C]),
     "mbx_mechatronics_load_drives": (_S, [_P, _P, _C]),
+    "mbx_mechatronics_load_drives_text": (_S, [_P, _P, _C, _C]),
     "mbx_mechatronics_drive_count": (_U, [_P]),
     "mbx_mechanism_set_mechatronics": (_S, [_P, _P, _P]),
     "mbx_mechanism_drive_count": (_U, [_P]),
@@ -259,6 +262,7 @@ _FILES_PROTOTYPES = {
                                       ctypes.POINTER(FilesError)]),
     "mbx_files_host": (_P, [_P]),
     "mbx_files_close": (None, [_P]),
+    "mbx_files_description": (_C, [_P]),
 }
 
 

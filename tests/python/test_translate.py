@@ -124,3 +124,32 @@ def test_simscape_double_pendulum_on_its_step_levers():
         assert np.allclose(m.joints[1].position, [-0.0, 0.0642, -0.2], atol=1e-12)
         assert [b.name for b in m.rigid_bodies[1:]] == ["lever_200 <1>", "lever_300 <1>"]
         assert abs(m.rigid_bodies[1].mass - 0.67087) < 1e-12
+
+
+def test_urdf_panda_with_its_packages_and_joint_dynamics(tmp_path):
+    """A robot's URDF through the same call: package:// meshes through
+    package_paths, the joints named as in the file, its <dynamics> attached as
+    the file's own description (the report lists them) and kept under a
+    description file the user attaches."""
+    robots = SHARED_DATA / "urdf"
+    urdf = robots / "panda_description" / "urdf" / "panda.urdf"
+    if not urdf.exists():
+        pytest.skip(f"no {urdf}")
+    with mbx.translate(urdf, package_paths={"example-robot-data/robots": robots}) as m:
+        s = m.summary
+        assert (s.revolute_count, s.prismatic_count, s.dof) == (7, 2, 9)
+        assert [j.constraint_id for j in m.joints][:2] == ["panda_joint1", "panda_joint2"]
+        assert not [f for f in m.findings if f.code == "mesh_file_missing"]
+        m.write_report(tmp_path / "r")
+        report = (tmp_path / "r" / "report.txt").read_text()
+        assert "'panda_joint1': damping 0.003 N m s/rad" in report
+        # A description of the user's own refines the file's: joint 1's damping replaced, joint 2's kept.
+        own = tmp_path / "d.xml"
+        own.write_text('<mechatronics version="1"><joint constraint="panda_joint1" damping="0.5"/></mechatronics>\n')
+        m.attach_drives(own)
+        m.write_report(tmp_path / "r2")
+        report = (tmp_path / "r2" / "report.txt").read_text()
+        assert "'panda_joint1': damping 0.5 N m s/rad" in report
+        assert "'panda_joint2': damping 0.003 N m s/rad" in report
+    with mbx.translate(urdf, package_paths={"example-robot-data/robots": robots}, floating_base=True) as m:
+        assert m.summary.dof == 15

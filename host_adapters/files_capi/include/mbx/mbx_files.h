@@ -36,7 +36,14 @@ typedef struct mbx_files_options {
     const char *shapes;            /* VRML97 scene matched to the bodies by pose; NULL or "": none */
     const char *const *mesh_dirs;  /* searched for the mesh files an input names after its own folder */
     uint32_t mesh_dir_count;
+    /* --- since URDF input (a caller's smaller struct_size leaves these out) --- */
+    const char *const *package_paths; /* "name=dir" each: a URDF's package://name/... (docs/urdf.md) */
+    uint32_t package_path_count;
+    int32_t floating_base;            /* 1: a URDF's root link moves freely */
 } mbx_files_options;
+
+/* The struct as the first callers knew it: any struct_size from this on is accepted. */
+#define MBX_FILES_OPTIONS_V1_SIZE (offsetof(mbx_files_options, mesh_dir_count) + sizeof(uint32_t))
 
 /* Why a file could not be opened. Strings stay valid until the next
  * mbx_files_open call on this thread. */
@@ -57,6 +64,11 @@ MBX_API int mbx_files_open(const char *path, const mbx_files_options *options, m
  * it must be destroyed, or must release the host, before the close. */
 MBX_API const mbx_host *mbx_files_host(const mbx_file_host *files);
 MBX_API void mbx_files_close(mbx_file_host *files);
+/* What the input says beyond the assembly (a URDF's joint dynamics and
+ * collision shapes) as a description file's text, for
+ * mbx_mechatronics_load_drives_text before the user's own description; ""
+ * when nothing. Valid until mbx_files_close. */
+MBX_API const char *mbx_files_description(const mbx_file_host *files);
 
 #ifdef __cplusplus
 }
