@@ -40,7 +40,7 @@ TEST_CASE("input formats: the root element names the format before the extension
     REQUIRE(root != std::string::npos);
     atest::write_file(dir.file("export.dat"), "\xEF\xBB\xBF<?xml version=\"1.0\"?>\n<!-- exported -->\n<?app x?>\n"
                                               "<!DOCTYPE m [ <!ENTITY a \"b\"> ]>\n" + pmxml.substr(root));
-    atest::write_file(dir.file("other.xml"), "<?xml version=\"1.0\"?><robot name=\"r\"/>");
+    atest::write_file(dir.file("other.xml"), "<?xml version=\"1.0\"?><scene name=\"r\"/>");
     atest::write_file(dir.file("notes.txt"), "not a model");
 
     const mbx_files::InputFormat* f = input_format_of(dir.file("arm.xml"));
