@@ -218,6 +218,44 @@ UrdfAssembly to_assembly(const UrdfModel& model, const UrdfAssemblyOptions& opti
             a.diagnostics.push_back(std::move(d));
         }
     }
+    // The loops' closing joints, from the cut-joint file: each side's frame in
+    // its link, the axis in the parent link's.
+    for (const UrdfCutJoint& c : model.cut_joints) {
+        const auto cut_fail = [&](const std::string& message) { throw FileError(model.cut_joint_file, c.line, message); };
+        const auto parent = link_index.find(c.parent), child = link_index.find(c.child);
+        if (parent == link_index.end()) cut_fail("cut joint " + quoted(c.name) + ": link " + quoted(c.parent) + " is not in the URDF");
+        if (child == link_index.end()) cut_fail("cut joint " + quoted(c.name) + ": link " + quoted(c.child) + " is not in the URDF");
+        if (joint_index.count(c.name)) cut_fail("cut joint " + quoted(c.name) + " has the name of a joint of the URDF");
+        const Eigen::Isometry3d parent_world = out.link_world[size_t(parent->second)];
+        mbx_memory::Frame b, f;
+        b.id = c.name + "/parent";
+        b.name = c.name + " (parent side)";
+        b.body_id = c.parent;
+        b.pose = urdf_pose(parent_world * c.parent_origin.pose());
+        f.id = c.name + "/child";
+        f.name = c.name + " (child side)";
+        f.body_id = c.child;
+        f.pose = urdf_pose(out.link_world[size_t(child->second)] * c.child_origin.pose());
+        a.frames.push_back(b);
+        a.frames.push_back(f);
+        mbx_memory::Constraint k;
+        k.id = k.name = c.name;
+        k.base_frame_id = b.id;
+        k.follower_frame_id = f.id;
+        const Eigen::Vector3d axis = parent_world.linear() * c.axis;
+        mbx_memory::Primitive p = primitive(c.type == "revolute"    ? MBX_PRIMITIVE_REVOLUTE
+                                            : c.type == "prismatic" ? MBX_PRIMITIVE_PRISMATIC
+                                            : c.type == "spherical" ? MBX_PRIMITIVE_SPHERICAL
+                                                                    : MBX_PRIMITIVE_WELD,
+                                            axis);
+        if (c.has_limit) {
+            p.has_limits = true;
+            p.lower = c.lower;
+            p.upper = c.upper;
+        }
+        k.chain.push_back(p);
+        a.constraints.push_back(k);
+    }
     return out;
 }
 

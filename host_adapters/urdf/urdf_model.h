@@ -77,12 +77,27 @@ struct UrdfJoint {
     int mimic_line = 0;
 };
 
+// A joint that closes a loop, from the cut-joint file mbx's URDF export
+// writes beside the URDF (<robot>.cut_joints.json): a URDF is a tree.
+struct UrdfCutJoint {
+    std::string name, type;  // revolute, prismatic, spherical, fixed
+    std::string parent, child;
+    UrdfOrigin parent_origin, child_origin;  // the joint frame in each link's frame
+    bool has_axis = false;
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // in the parent link's frame
+    bool has_limit = false;
+    double lower = 0, upper = 0;
+    int line = 0;  // in the cut-joint file
+};
+
 struct UrdfModel {
     std::string file, name;
     int robot_line = 0;
     std::vector<UrdfLink> links;
     std::vector<UrdfJoint> joints;
     std::map<std::string, UrdfColour> materials;  // top-level named materials
+    std::string cut_joint_file;                   // "" when none was found
+    std::vector<UrdfCutJoint> cut_joints;
     // What the reader noticed, as the host serves it.
     std::vector<mbx_memory::Diagnostic> diagnostics;
 };

@@ -5,11 +5,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <set>
 
 #include <pugixml.hpp>
 
+#include "host_adapters/common/json_value.h"
 #include "host_adapters/common/line_index.h"
 #include "host_adapters/common/numbers.h"
 
@@ -309,7 +311,99 @@ UrdfModel read_urdf(const std::string& path) {
     const std::unique_ptr<char[]> text(new char[size_t(size) + 1]);
     in.read(text.get(), std::streamsize(size));
     if (size_t(in.gcount()) != size) throw FileError(path, 0, "cannot read the file");
-    return parse_owned(text.get(), size_t(size), path);
+    UrdfModel model = parse_owned(text.get(), size_t(size), path);
+    // The loops mbx's URDF export cut: <stem>.cut_joints.json beside the file.
+    const std::filesystem::path p(path);
+    const std::string sidecar = (p.parent_path() / (p.stem().string() + ".cut_joints.json")).string();
+    if (std::filesystem::is_regular_file(sidecar, ec)) {
+        std::ifstream s(sidecar, std::ios::binary);
+        const std::string json((std::istreambuf_iterator<char>(s)), std::istreambuf_iterator<char>());
+        if (!s && !s.eof()) throw FileError(sidecar, 0, "cannot read the file");
+        model.cut_joints = parse_cut_joints(json, sidecar);
+        model.cut_joint_file = sidecar;
+    }
+    return model;
+}
+
+}  // namespace mbx_files
+
+namespace mbx_files {
+
+std::vector<UrdfCutJoint> parse_cut_joints(std::string_view text, const std::string& file) {
+    JsonValue root;
+    try {
+        root = parse_json(text);
+    } catch (const JsonError& e) {
+        throw FileError(file, e.line(), std::string("not JSON: ") + e.what());
+    }
+    auto fail = [&](const JsonValue& at, const std::string& message) { throw FileError(file, at.line, message); };
+    const JsonValue* format = root.find("format");
+    if (!format || format->string != "mbx-urdf-cut-joints")
+        fail(root, "not a cut-joint file: no \"format\": \"mbx-urdf-cut-joints\"");
+    const JsonValue* version = root.find("version");
+    if (!version || version->kind != JsonValue::Kind::number || version->number != 1)
+        fail(version ? *version : root, "cut-joint file version " + (version ? std::to_string(version->number) : "?") +
+                                            "; mbx reads version 1");
+    const JsonValue* list = root.find("cut_joints");
+    if (!list || list->kind != JsonValue::Kind::array) fail(root, "no \"cut_joints\" array");
+    auto number = [&](const JsonValue& v) {
+        if (v.kind != JsonValue::Kind::number) fail(v, "a number belongs here");
+        return v.number;
+    };
+    auto vector = [&](const JsonValue* v, const char* what, const JsonValue& owner) {
+        if (!v || v->kind != JsonValue::Kind::array || v->array.size() != 3)
+            fail(v ? *v : owner, std::string("\"") + what + "\" needs three numbers");
+        return Eigen::Vector3d(number(v->array[0]), number(v->array[1]), number(v->array[2]));
+    };
+    auto text_of = [&](const JsonValue& owner, const char* key) {
+        const JsonValue* v = owner.find(key);
+        if (!v || v->kind != JsonValue::Kind::string || v->string.empty()) fail(owner, std::string("no \"") + key + "\"");
+        return v->string;
+    };
+    std::vector<UrdfCutJoint> out;
+    for (const JsonValue& j : list->array) {
+        if (j.kind != JsonValue::Kind::object) fail(j, "a cut joint is an object");
+        UrdfCutJoint c;
+        c.line = j.line;
+        c.name = text_of(j, "name");
+        c.type = text_of(j, "type");
+        if (c.type != "revolute" && c.type != "prismatic" && c.type != "spherical" && c.type != "fixed")
+            fail(j, "cut joint '" + c.name + "': type '" + c.type + "' is not revolute, prismatic, spherical or fixed");
+        for (const char* side : {"parent", "child"}) {
+            const JsonValue* s = j.find(side);
+            if (!s || s->kind != JsonValue::Kind::object) fail(j, "cut joint '" + c.name + "': no \"" + side + "\"");
+            UrdfOrigin o;
+            o.xyz = vector(s->find("xyz"), "xyz", *s);
+            o.rpy = vector(s->find("rpy"), "rpy", *s);
+            if (std::string(side) == "parent") {
+                c.parent = text_of(*s, "link");
+                c.parent_origin = o;
+                const JsonValue* axis = s->find("axis");
+                if (axis && !axis->is_null()) {
+                    c.axis = vector(axis, "axis", *s);
+                    if (!(c.axis.norm() > 1e-12)) fail(*axis, "cut joint '" + c.name + "': a zero axis");
+                    c.axis.normalize();
+                    c.has_axis = true;
+                }
+            } else {
+                c.child = text_of(*s, "link");
+                c.child_origin = o;
+            }
+        }
+        if ((c.type == "revolute" || c.type == "prismatic") && !c.has_axis)
+            fail(j, "cut joint '" + c.name + "': a " + c.type + " joint needs an axis");
+        if (const JsonValue* limits = j.find("limits"); limits && !limits->is_null()) {
+            const JsonValue* lower = limits->find("lower");
+            const JsonValue* upper = limits->find("upper");
+            if (!lower || !upper) fail(*limits, "cut joint '" + c.name + "': limits need lower and upper");
+            c.has_limit = true;
+            c.lower = number(*lower);
+            c.upper = number(*upper);
+            if (c.lower > c.upper) fail(*limits, "cut joint '" + c.name + "': lower limit above the upper one");
+        }
+        out.push_back(std::move(c));
+    }
+    return out;
 }
 
 }  // namespace mbx_files

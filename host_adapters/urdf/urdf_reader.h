@@ -4,7 +4,9 @@
 // joint without parent, child or a known type, a number that is not a finite
 // number, a negative mass, a zero axis) is a FileError naming the line;
 // extension elements (gazebo, transmission, ros2_control, ...) are stepped
-// over as every URDF consumer does.
+// over as every URDF consumer does. read_urdf also reads the cut joints that
+// close a looped mechanism's loops from <stem>.cut_joints.json beside the
+// file, when there is one (what mbx's URDF export writes).
 #pragma once
 #include <string>
 #include <string_view>
@@ -17,6 +19,10 @@ namespace mbx_files {
 inline constexpr const char* kUrdfRootElement = "robot";
 
 UrdfModel read_urdf(const std::string& path);
+// The cut joints of `file` (mbx-urdf-cut-joints version 1, what mbx's URDF
+// export writes beside a looped mechanism's URDF); FileError naming `file`
+// and the line otherwise.
+std::vector<UrdfCutJoint> parse_cut_joints(std::string_view text, const std::string& file);
 UrdfModel parse_urdf(std::string_view text, const std::string& file);
 
 }  // namespace mbx_files
