@@ -2,7 +2,7 @@
 // world poses, every joint type, a floating base every other input), and
 // translate it through the C API (what `mbx translate robot.urdf` does,
 // minus the mesh files), so values the reader lets through meet the
-// translator too.
+// translator too; and the same bytes as a cut-joint file.
 #include <mbx/mbx.h>
 
 #include "fuzz_common.h"
@@ -12,6 +12,11 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string text = fuzz_text(data, size);
+    // The same bytes as a cut-joint file (the JSON mbx's URDF export writes beside a looped mechanism).
+    try {
+        mbx_files::parse_cut_joints(text, std::string(kFuzzDir) + "/fuzz.cut_joints.json");
+    } catch (const mbx_files::FileError&) {
+    }
     mbx_files::UrdfAssembly built;
     try {
         const mbx_files::UrdfModel model = mbx_files::parse_urdf(text, std::string(kFuzzDir) + "/fuzz.urdf");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <cstdlib>
+#include <cstring>
 
 #include "host_adapters/common/numbers.h"
 
@@ -105,8 +106,11 @@ private:
                                           text_[end] == '+' || text_[end] == '.' || text_[end] == 'e' || text_[end] == 'E'))
                 ++end;
             const std::optional<double> x = end > at_ ? parse_number(text_.substr(at_, end - at_)) : std::nullopt;
-            if (!x) fail("'" + std::string(text_.substr(at_, std::max<size_t>(1, std::min<size_t>(end - at_, 20)))) +
-                         "' is not a JSON value");
+            if (!x) {
+                size_t stop = at_;
+                while (stop < text_.size() && stop - at_ < 20 && !std::strchr(",:]} \t\r\n", text_[stop])) ++stop;
+                fail("'" + std::string(text_.substr(at_, std::max<size_t>(1, stop - at_))) + "' is not a JSON value");
+            }
             v.kind = JsonValue::Kind::number;
             v.number = *x;
             at_ = end;

@@ -7,12 +7,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
 #include "host_adapters/common/file_error.h"
+#include "host_adapters/common/json_value.h"
 #include "host_adapters/inputs/input_formats.h"
 #include "host_adapters/urdf/urdf_adapter.h"
 #include "host_adapters/urdf/urdf_assembly.h"
@@ -329,6 +331,60 @@ TEST_CASE("urdf: a floating base is six freedoms from the world, and the input t
     const auto floating = mbx_files::open_input(dir.file("robot.xml"), o);
     const auto fixed = mbx_files::open_input(dir.file("robot.xml"));
     CHECK(atest::dynamics(floating->table(), 7).size() > atest::dynamics(fixed->table(), 1).size());
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("urdf cut-joint file: JSON read with its lines, a broken file an error naming its line") {
+    using mbx_files::JsonValue;
+    const JsonValue v = mbx_files::parse_json("{\n  \"a\": [1, -2.5e3, true, null],\n  \"b\": {\"c\": \"x\\n\\u00e9\"}\n}\n");
+    REQUIRE(v.kind == JsonValue::Kind::object);
+    const JsonValue* a = v.find("a");
+    REQUIRE(a != nullptr);
+    CHECK(a->line == 2);
+    REQUIRE(a->array.size() == 4);
+    CHECK(a->array[1].number == -2500);
+    CHECK(a->array[2].boolean);
+    CHECK(a->array[3].is_null());
+    CHECK(v.find("b")->find("c")->string == "x\n\xC3\xA9");
+    CHECK(v.find("b")->line == 3);
+    for (const auto& [text, line, message] : std::vector<std::tuple<std::string, int, std::string>>{
+             {"{\"a\": [1, 2}", 1, "expected ']'"},
+             {"{\n\"a\": nan}", 2, "'nan' is not a JSON value"},
+             {"{\"a\": 1} x", 1, "text after"},
+             {"\"open", 1, "never ends"},
+             {std::string(100, '['), 1, "nested deeper than 64"}}) {
+        CAPTURE(text);
+        try {
+            mbx_files::parse_json(text);
+            FAIL("accepted");
+        } catch (const mbx_files::JsonError& e) {
+            CHECK(e.line() == line);
+            CHECK(std::string(e.what()).find(message) != std::string::npos);
+        }
+    }
+
+    // A cut-joint file naming a link the URDF lacks: an error naming the file and the joint's line.
+    atest::TempDir dir("mbx_urdf_cut_file");
+    atest::write_file(dir.file("r.urdf"), robot(std::string(kBase) + link("a") + joint("j", "continuous", "base", "a")));
+    const std::string side = "\"xyz\": [0, 0, 0], \"rpy\": [0, 0, 0], \"axis\": [0, 0, 1]";
+    atest::write_file(dir.file("r.cut_joints.json"),
+                      "{\"format\": \"mbx-urdf-cut-joints\", \"version\": 1, \"cut_joints\": [\n"
+                      "  {\"name\": \"k\", \"type\": \"revolute\", \"parent\": {\"link\": \"base\", " + side +
+                          "}, \"child\": {\"link\": \"nowhere\", " + side + "}, \"limits\": null}]}\n");
+    try {
+        mbx_files::UrdfAdapter::open(dir.file("r.urdf"));
+        FAIL("opened");
+    } catch (const mbx_files::FileError& e) {
+        CHECK(e.file() == dir.file("r.cut_joints.json"));
+        CHECK(e.line() == 2);
+        CHECK(e.message().find("link 'nowhere' is not in the URDF") != std::string::npos);
+    }
+    atest::write_file(dir.file("r.cut_joints.json"), "{\"format\": \"something else\"}");
+    CHECK_THROWS_WITH_AS(mbx_files::UrdfAdapter::open(dir.file("r.urdf")),
+                         doctest::Contains("not a cut-joint file"), mbx_files::FileError);
 }
 
 }  // namespace MBX_UNITY_ID
