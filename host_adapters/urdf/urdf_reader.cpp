@@ -67,6 +67,16 @@ public:
             // other extensions are for other tools.
         }
         if (model_.links.empty()) fail(robot, "the robot has no <link>");
+        // Gazebo's convention: a joint may hang the robot on "world" without declaring it.
+        if (!links.count("world"))
+            for (const UrdfJoint& j : model_.joints)
+                if (j.parent == "world") {
+                    UrdfLink world;
+                    world.name = "world";
+                    world.line = j.line;
+                    model_.links.insert(model_.links.begin(), std::move(world));
+                    break;
+                }
         return std::move(model_);
     }
 
@@ -244,9 +254,12 @@ private:
         if (j.child.empty()) fail(n, "joint " + q(j.name) + " has no <child link=...>");
         j.origin = origin(n);
         if (const pugi::xml_node axis = n.child("axis")) {
-            j.axis = vector(axis, "xyz", Eigen::Vector3d::UnitX());
-            if (!(j.axis.norm() > 1e-12)) fail(axis, "joint " + q(j.name) + ": a zero axis");
-            j.axis.normalize();
+            const Eigen::Vector3d written = vector(axis, "xyz", Eigen::Vector3d::UnitX());
+            // A fixed or floating joint has no axis to give: exporters write "0 0 0" there (DFKI's acrobot).
+            if (j.type != "fixed" && j.type != "floating") {
+                if (!(written.norm() > 1e-12)) fail(axis, "joint " + q(j.name) + ": a zero axis");
+                j.axis = written.normalized();
+            }
         }
         if (const pugi::xml_node limit = n.child("limit")) {
             j.has_limit = true;

@@ -46,6 +46,9 @@ std::unique_ptr<mjModel, ModelFree> mujoco_model(const std::string& urdf, const 
     std::string text = mbx_test::read_file(urdf);
     text = std::regex_replace(text, std::regex("<visual[\\s\\S]*?</visual>"), "");
     text = std::regex_replace(text, std::regex("<collision[\\s\\S]*?</collision>"), "");
+    // MuJoCo wants Gazebo's implied "world" link declared.
+    if (text.find("link=\"world\"") != std::string::npos && text.find("<link name=\"world\"") == std::string::npos)
+        text = std::regex_replace(text, std::regex("(<robot[^>]*>)"), "$1<link name=\"world\"/>");
     const std::string copy = dir.file("mujoco.urdf");
     std::ofstream(copy, std::ios::binary) << text;
     char error[1000] = "";
@@ -153,6 +156,15 @@ TEST_CASE("urdf input: Solo12's URDF, its base fixed, gives MuJoCo's mass matrix
     mbx_files::FileInputOptions o;
     o.package_paths.push_back({"example-robot-data/robots", robots});
     compare_with_mujoco(robots + "/solo_description/robots/solo12.urdf", o, 12);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("urdf input: the DFKI acrobot's identified URDF (world implied, a fixed joint's zero axis) gives MuJoCo's dynamics") {
+    const std::string urdf = mbx_test::shared_data("measured/dfki_double_pendulum_c0/identified_model_3.1_acrobot.urdf");
+    compare_with_mujoco(urdf, {}, 2);
 }
 
 }  // namespace MBX_UNITY_ID
