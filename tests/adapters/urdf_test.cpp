@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -350,19 +349,23 @@ TEST_CASE("urdf cut-joint file: JSON read with its lines, a broken file an error
     CHECK(a->array[3].is_null());
     CHECK(v.find("b")->find("c")->string == "x\n\xC3\xA9");
     CHECK(v.find("b")->line == 3);
-    for (const auto& [text, line, message] : std::vector<std::tuple<std::string, int, std::string>>{
-             {"{\"a\": [1, 2}", 1, "expected ']'"},
-             {"{\n\"a\": nan}", 2, "'nan' is not a JSON value"},
-             {"{\"a\": 1} x", 1, "text after"},
-             {"\"open", 1, "never ends"},
-             {std::string(100, '['), 1, "nested deeper than 64"}}) {
-        CAPTURE(text);
+    struct Bad {
+        std::string text;
+        int line;
+        std::string message;
+    };
+    for (const Bad& bad : std::vector<Bad>{{"{\"a\": [1, 2}", 1, "expected ']'"},
+                                           {"{\n\"a\": nan}", 2, "'nan' is not a JSON value"},
+                                           {"{\"a\": 1} x", 1, "text after"},
+                                           {"\"open", 1, "never ends"},
+                                           {std::string(100, '['), 1, "nested deeper than 64"}}) {
+        CAPTURE(bad.text);
         try {
-            mbx_files::parse_json(text);
+            mbx_files::parse_json(bad.text);
             FAIL("accepted");
         } catch (const mbx_files::JsonError& e) {
-            CHECK(e.line() == line);
-            CHECK(std::string(e.what()).find(message) != std::string::npos);
+            CHECK(e.line() == bad.line);
+            CHECK(std::string(e.what()).find(bad.message) != std::string::npos);
         }
     }
 
