@@ -9,6 +9,7 @@
 #include <memory>
 #include <set>
 
+#include <Eigen/Eigenvalues>
 #include <pugixml.hpp>
 
 #include "host_adapters/common/json_value.h"
@@ -179,6 +180,17 @@ private:
             i.iyy = number(inertia, "iyy", 0, true);
             i.iyz = number(inertia, "iyz", 0, true);
             i.izz = number(inertia, "izz", 0, true);
+            // Said here, where the line is known; the translator's check names the body only.
+            Eigen::Matrix3d I;
+            I << i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz;
+            const Eigen::Vector3d p = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
+            const double tolerance = 1e-9 * std::max(1e-300, p.cwiseAbs().maxCoeff());
+            if (p[0] < -tolerance || p[0] + p[1] < p[2] - tolerance)
+                note(inertia, "urdf_inertia_not_physical",
+                     "link " + q(link.name) + ": the inertia's principal moments " + std::to_string(p[0]) + ", " +
+                         std::to_string(p[1]) + ", " + std::to_string(p[2]) +
+                         (p[0] < -tolerance ? " include a negative one" : " break the triangle inequality") +
+                         ": no rigid body has them");
         }
         for (const pugi::xml_node& v : n.children("visual")) link.visuals.push_back(read_shape(v, link.name, true));
         for (const pugi::xml_node& c : n.children("collision")) link.collisions.push_back(read_shape(c, link.name, false));

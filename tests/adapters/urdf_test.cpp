@@ -316,6 +316,16 @@ TEST_CASE("urdf: joint dynamics and collision elements are the file's own descri
     }
     CHECK(mimic);
     CHECK(no_limit);
+
+    // An inertia no rigid body has: a finding naming the <inertia> line.
+    const mbx_files::UrdfModel bad = mbx_files::parse_urdf(
+        robot("  <link name=\"a\"><inertial><mass value=\"1\"/>\n<inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"3\"/>"
+              "</inertial></link>\n"),
+        "bad.urdf");
+    REQUIRE(bad.diagnostics.size() == 1);
+    CHECK(bad.diagnostics[0].code == "urdf_inertia_not_physical");
+    CHECK(bad.diagnostics[0].line == 4);
+    CHECK(bad.diagnostics[0].message.find("break the triangle inequality") != std::string::npos);
 }
 
 TEST_CASE("urdf: a floating base is six freedoms from the world, and the input table picks URDF by its root element") {
