@@ -21,6 +21,7 @@
 #include "mechanism_dynamics.h"
 #include "stl_text.h"
 #include "tests/common/near.h"
+#include "cli_support.h"
 #include "translation_support.h"
 
 namespace MBX_UNITY_ID {
@@ -398,6 +399,36 @@ TEST_CASE("urdf cut-joint file: JSON read with its lines, a broken file an error
     atest::write_file(dir.file("r.cut_joints.json"), "{\"format\": \"something else\"}");
     CHECK_THROWS_WITH_AS(mbx_files::UrdfAdapter::open(dir.file("r.urdf")),
                          doctest::Contains("not a cut-joint file"), mbx_files::FileError);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+TEST_CASE("urdf round trip: joint dynamics written by mbx's URDF export come back as the file's own description, and a user's file refines them") {
+    atest::TempDir dir("mbx_urdf_dynamics_trip");
+    atest::write_file(dir.file("d.xml"), "<mechatronics version=\"1\">\n"
+                                         "  <joint constraint=\"fourbar/rev_A\" damping=\"0.5\" coulomb=\"2\"/>\n"
+                                         "  <joint constraint=\"fourbar/rev_B\" damping=\"0.25\"/>\n"
+                                         "</mechatronics>\n");
+    const atest::CliRun out = atest::run_cli(dir, "translate fourbar --drives '" + dir.file("d.xml") + "' --format urdf -o '" +
+                                                      dir.file("out") + "'");
+    INFO(out.err);
+    REQUIRE(out.code == 0);
+    // The URDF names the joints by the report's names (the built-in's ids are 'fourbar/rev_A').
+    const auto adapter = mbx_files::UrdfAdapter::open(dir.file("out/urdf/fourbar.urdf"));
+    const std::string d = adapter->description();
+    CHECK(d.find("<joint constraint=\"rev_A\" damping=\"0.5\" coulomb=\"2\"/>") != std::string::npos);
+    CHECK(d.find("<joint constraint=\"rev_B\" damping=\"0.25\" coulomb=\"0\"/>") != std::string::npos);
+    // Read through the CLI, the URDF's dynamics reach the report; a user's file replaces rev_A's only.
+    atest::write_file(dir.file("mine.xml"), "<mechatronics version=\"1\"><joint constraint=\"rev_A\" damping=\"7\"/></mechatronics>\n");
+    const atest::CliRun back = atest::run_cli(dir, "translate '" + dir.file("out/urdf/fourbar.urdf") + "' --drives '" +
+                                                       dir.file("mine.xml") + "' --format none -o '" + dir.file("back") + "'");
+    INFO(back.err);
+    REQUIRE(back.code == 0);
+    const std::string report = atest::read_file(dir.file("back/report.txt"));
+    CHECK(report.find("'rev_A': damping 7 N m s/rad, Coulomb 0 N m") != std::string::npos);
+    CHECK(report.find("'rev_B': damping 0.25 N m s/rad") != std::string::npos);
 }
 
 }  // namespace MBX_UNITY_ID
