@@ -11,6 +11,7 @@
 
 #include <pugixml.hpp>
 
+#include "host_adapters/common/file_bytes.h"
 #include "host_adapters/common/line_index.h"
 #include "host_adapters/common/numbers.h"
 #include "host_adapters/common/units.h"
@@ -379,19 +380,8 @@ SimscapeModel parse_simscape(std::string_view text, const std::string& file) {
 }
 
 SimscapeModel read_simscape(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw FileError(path, 0,
-                        std::filesystem::exists(path, ec) ? "cannot read it: not a regular file" : "no such file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, 0, std::string("cannot open the file: ") + std::strerror(errno));
-    const uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec) throw FileError(path, 0, "cannot read the file: " + ec.message());
-    // Not a std::string: its zero fill would touch every page once more before the read does.
-    const std::unique_ptr<char[]> text(new char[size_t(size) + 1]);
-    in.read(text.get(), std::streamsize(size));
-    if (size_t(in.gcount()) != size) throw FileError(path, 0, "cannot read the file");
-    return parse_owned(text.get(), size_t(size), path);
+    const FileBytes bytes = read_file_bytes(path);
+    return parse_owned(bytes.data.get(), bytes.size, path);
 }
 
 }  // namespace mbx_files

@@ -13,6 +13,7 @@
 #include <pugixml.hpp>
 
 #include "host_adapters/common/json_value.h"
+#include "host_adapters/common/file_bytes.h"
 #include "host_adapters/common/line_index.h"
 #include "host_adapters/common/numbers.h"
 
@@ -325,26 +326,15 @@ UrdfModel parse_urdf(std::string_view text, const std::string& file) {
 }
 
 UrdfModel read_urdf(const std::string& path) {
+    const FileBytes bytes = read_file_bytes(path);
+    UrdfModel model = parse_owned(bytes.data.get(), bytes.size, path);
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw FileError(path, 0,
-                        std::filesystem::exists(path, ec) ? "cannot read it: not a regular file" : "no such file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, 0, std::string("cannot open the file: ") + std::strerror(errno));
-    const uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec) throw FileError(path, 0, "cannot read the file: " + ec.message());
-    const std::unique_ptr<char[]> text(new char[size_t(size) + 1]);
-    in.read(text.get(), std::streamsize(size));
-    if (size_t(in.gcount()) != size) throw FileError(path, 0, "cannot read the file");
-    UrdfModel model = parse_owned(text.get(), size_t(size), path);
     // The loops mbx's URDF export cut: <stem>.cut_joints.json beside the file.
     const std::filesystem::path p(path);
     const std::string sidecar = (p.parent_path() / (p.stem().string() + ".cut_joints.json")).string();
     if (std::filesystem::is_regular_file(sidecar, ec)) {
-        std::ifstream s(sidecar, std::ios::binary);
-        const std::string json((std::istreambuf_iterator<char>(s)), std::istreambuf_iterator<char>());
-        if (!s && !s.eof()) throw FileError(sidecar, 0, "cannot read the file");
-        model.cut_joints = parse_cut_joints(json, sidecar);
+        const FileBytes json = read_file_bytes(sidecar);
+        model.cut_joints = parse_cut_joints(std::string_view(json.data.get(), json.size), sidecar);
         model.cut_joint_file = sidecar;
     }
     return model;
