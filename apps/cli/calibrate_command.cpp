@@ -20,7 +20,9 @@ const std::string kCalibrateUsage = std::string(
     "  --experiment <file.xml>  the measured records, which column is which quantity, how the model is\n"
     "              driven along them and which signals are compared (docs/calibration.md)\n"
     "  -o <dir>    output directory (created): calibration.json, calibration.html and description.xml, the\n"
-    "              --drives file extended with the identified joint dynamics (feed it back with --drives)\n") +
+    "              --drives file extended with the identified joint dynamics (feed it back with --drives)\n"
+    "  --write-urdf <file.urdf>  (a URDF input) also write the input URDF with the calibrated joint damping,\n"
+    "              friction and link inertials in it, every other byte kept (docs/urdf.md)\n") +
     kInputOptionsHelp;
 
 // A line per stage and tenth.
@@ -41,7 +43,7 @@ int calibrate_progress(void* user, const char* stage, double fraction) {
 
 int run_calibrate(const std::vector<std::string>& args) {
     InputOptions in;
-    std::string out_dir, experiment;
+    std::string out_dir, experiment, urdf_out;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         const int input_option = parse_input_option(args, i, in, "calibrate");
@@ -55,6 +57,8 @@ int run_calibrate(const std::vector<std::string>& args) {
             out_dir = args[++i];
         } else if (a == "--experiment" && has_value) {
             experiment = args[++i];
+        } else if (a == "--write-urdf" && has_value) {
+            urdf_out = args[++i];
         } else if (!a.empty() && a[0] == '-') {
             std::fprintf(stderr, "mbx calibrate: unknown or incomplete option '%s'\n\n%s", a.c_str(), kCalibrateUsage.c_str());
             return 2;
@@ -68,6 +72,14 @@ int run_calibrate(const std::vector<std::string>& args) {
     if (in.input.empty() || out_dir.empty() || experiment.empty()) {
         std::fputs(kCalibrateUsage.c_str(), stderr);
         return 2;
+    }
+    if (!urdf_out.empty()) {
+        const mbx_files::InputFormat* format = mbx_files::input_format_of(in.input);
+        if (!format || std::string(format->name) != "urdf") {
+            std::fprintf(stderr, "mbx calibrate: --write-urdf needs a URDF input; '%s' is %s\n", in.input.c_str(),
+                         format ? format->name : "no file of a known format");
+            return 2;
+        }
     }
     in.mass_check = false;  // a report matter; calibration needs no meshes
     const bool progress = in.progress;
@@ -122,6 +134,19 @@ int run_calibrate(const std::vector<std::string>& args) {
     for (uint32_t i = 0; i < s.warning_count; ++i) std::printf("warning: %s\n", mbx_calibration_get_warning(cal.h, i));
     std::printf("report: %s/calibration.html\ndata: %s/calibration.json\ndescription: %s/description.xml (%.1f s)\n",
                 out_dir.c_str(), out_dir.c_str(), out_dir.c_str(), s.wall_time);
+    if (!urdf_out.empty()) {
+        // The model as description.xml holds it, written into the user's URDF.
+        const uint32_t known = mbx_mechanism_finding_count(c.mech);
+        if (const int code = attach_description(in, out_dir + "/description.xml", c)) return code;
+        if (const mbx_status st = mbx_mechanism_update_urdf(c.ctx, c.mech, in.input.c_str(), urdf_out.c_str()); st != MBX_OK)
+            return fail(c, st, "writing the calibrated URDF");
+        std::printf("urdf: %s\n", urdf_out.c_str());
+        for (uint32_t i = known; i < mbx_mechanism_finding_count(c.mech); ++i) {
+            mbx_finding f{};
+            f.struct_size = sizeof f;
+            if (mbx_mechanism_get_finding(c.mech, i, &f) == MBX_OK) std::printf("note: %s\n", f.message);
+        }
+    }
     return 0;
 }
 

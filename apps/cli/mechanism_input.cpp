@@ -119,6 +119,34 @@ std::string stem_of(const std::string& path) {
     return name;
 }
 
+namespace {
+
+// The mechatronics of the input's own description (a URDF's joint dynamics
+// and collision shapes) first, then the libraries, then `drives_path`,
+// which refines it; none when there is nothing to load.
+int load_description(const InputOptions& o, const std::string& drives_path, OpenedInput& out) {
+    const std::string own_description = out.adapter ? out.adapter->description() : std::string();
+    if (o.libraries.empty() && drives_path.empty() && !o.collision_hulls && own_description.empty()) return 0;
+    if (mbx_mechatronics_create(out.ctx, &out.mechatronics) != MBX_OK) return fail(out, MBX_ERROR_OUT_OF_MEMORY, "setup");
+    if (!own_description.empty() &&
+        mbx_mechatronics_load_drives_text(out.ctx, out.mechatronics, own_description.c_str(), o.input.c_str()) != MBX_OK)
+        return fail_input(out);
+    for (const std::string& lib : o.libraries)
+        if (mbx_mechatronics_load_library(out.ctx, out.mechatronics, lib.c_str()) != MBX_OK) return fail_input(out);
+    if (!drives_path.empty() && mbx_mechatronics_load_drives(out.ctx, out.mechatronics, drives_path.c_str()) != MBX_OK)
+        return fail_input(out);
+    if (o.collision_hulls) {
+        mbx_collision_shape_desc hulls{};
+        hulls.struct_size = sizeof hulls;
+        hulls.body_id = "*";
+        hulls.kind = MBX_COLLISION_HULL;
+        if (mbx_mechatronics_add_collision_shape(out.ctx, out.mechatronics, &hulls) != MBX_OK) return fail_input(out);
+    }
+    return 0;
+}
+
+}  // namespace
+
 int open_input(const InputOptions& o, const char* command, OpenedInput& out) {
     const std::string& input = o.input;
     const mbx_files::InputFormat* format = mbx_files::input_format_of(input);
@@ -172,32 +200,21 @@ int open_input(const InputOptions& o, const char* command, OpenedInput& out) {
     options.length_tolerance = o.length_tolerance;
     if (out.file_input && o.mass_check) options.flags = MBX_TRANSLATE_CHECK_MASS_WITH_SHAPES;
     // Libraries and drives are read before translating, so a typo in them
-    // costs no translation time. What the input file itself describes (a
-    // URDF's joint dynamics and collision shapes) comes first; the user's
-    // description file refines it.
-    const std::string own_description = out.adapter ? out.adapter->description() : std::string();
-    if (!o.libraries.empty() || !o.drives_path.empty() || o.collision_hulls || !own_description.empty()) {
-        if (mbx_mechatronics_create(out.ctx, &out.mechatronics) != MBX_OK) return fail(out, MBX_ERROR_OUT_OF_MEMORY, "setup");
-        if (!own_description.empty() &&
-            mbx_mechatronics_load_drives_text(out.ctx, out.mechatronics, own_description.c_str(), input.c_str()) != MBX_OK)
-            return fail_input(out);
-        for (const std::string& lib : o.libraries)
-            if (mbx_mechatronics_load_library(out.ctx, out.mechatronics, lib.c_str()) != MBX_OK) return fail_input(out);
-        if (!o.drives_path.empty() &&
-            mbx_mechatronics_load_drives(out.ctx, out.mechatronics, o.drives_path.c_str()) != MBX_OK)
-            return fail_input(out);
-        if (o.collision_hulls) {
-            mbx_collision_shape_desc hulls{};
-            hulls.struct_size = sizeof hulls;
-            hulls.body_id = "*";
-            hulls.kind = MBX_COLLISION_HULL;
-            if (mbx_mechatronics_add_collision_shape(out.ctx, out.mechatronics, &hulls) != MBX_OK) return fail_input(out);
-        }
-    }
+    // costs no translation time.
+    if (const int code = load_description(o, o.drives_path, out)) return code;
     const mbx_status status = mbx_translate(out.ctx, table, &options, &out.mech);
     if (status != MBX_OK) return fail(out, status, "translation");
     if (out.mechatronics && mbx_mechanism_set_mechatronics(out.ctx, out.mech, out.mechatronics) != MBX_OK)
         return fail_input(out);
+    return 0;
+}
+
+int attach_description(const InputOptions& o, const std::string& drives_path, OpenedInput& in) {
+    mbx_mechatronics_destroy(in.mechatronics);
+    in.mechatronics = nullptr;
+    if (const int code = load_description(o, drives_path, in)) return code;
+    if (in.mechatronics && mbx_mechanism_set_mechatronics(in.ctx, in.mech, in.mechatronics) != MBX_OK)
+        return fail_input(in);
     return 0;
 }
 

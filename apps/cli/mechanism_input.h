@@ -49,6 +49,11 @@ struct OpenedInput {
 // printing why (1: failure, 2: usage).
 int open_input(const InputOptions& o, const char* command, OpenedInput& out);
 
+// Attaches the description anew: the input's own, `o`'s libraries, then
+// `drives_path` in place of o.drives_path (a calibrated description.xml).
+// Returns 0, or 1 after printing why.
+int attach_description(const InputOptions& o, const std::string& drives_path, OpenedInput& in);
+
 // "mbx: <what> failed (<status>): <message>" and exit code 1.
 int fail(const OpenedInput& in, mbx_status status, const char* what);
 

@@ -442,6 +442,17 @@ class Mechanism:
         options.stop_time = stop_time
         self._ctx.check(_c.mbx_mechanism_export(self._ctx.handle, self._live(), ctypes.byref(options), _b(directory)))
 
+    def update_urdf(self, path, urdf=None) -> None:
+        """Writes the URDF this mechanism was read from (``urdf``, default
+        :attr:`source`) to ``path`` with the attached description's joint
+        dynamics and body corrections in it, every other byte as it was
+        (docs/urdf.md): after ``calibrate``, ``attach_drives(dir +
+        "/description.xml")`` then ``update_urdf(...)`` gives the calibrated
+        URDF. What URDF cannot hold becomes a finding."""
+        source = self.source if urdf is None else urdf
+        self._ctx.check(_c.mbx_mechanism_update_urdf(self._ctx.handle, self._live(), _b(os.fspath(source)),
+                                                     _b(os.fspath(path))))
+
     def write_view(self, directory, trajectory=None, title: Optional[str] = None) -> str:
         """Writes ``directory/view.html`` (docs/view.md): the assembly in a
         browser, offline, playing ``trajectory`` (a trajectory.csv simulated

@@ -215,6 +215,7 @@ _PROTOTYPES = {
     "mbx_mechanism_get_finding": (_S, [_P, _U, ctypes.POINTER(Finding)]),
     "mbx_mechanism_write_report": (_S, [_P, _P, _C]),
     "mbx_mechanism_export": (_S, [_P, _P, ctypes.POINTER(ExportOptions), _C]),
+    "mbx_mechanism_update_urdf": (_S, [_P, _P, _C, _C]),
     "mbx_mechanism_write_view": (_S, [_P, _P, ctypes.POINTER(ViewOptions), _C]),
     "mbx_mechatronics_create": (_S, [_P, ctypes.POINTER(_P)]),
     "mbx_mechatronics_destroy": (None, [_P]),

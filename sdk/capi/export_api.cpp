@@ -1,12 +1,30 @@
 // mbx_mechanism_export: C options in, export/ modules run, notes appended to
 // the mechanism's findings.
 #include <cstring>
+#include <filesystem>
 
 #include "sdk/capi/export_model_of.h"
 #include "sdk/capi/guard.h"
+#include "core/mechatronics/xml_text.h"
+#include "core/report/atomic_file.h"
 #include "export/export_files.h"
+#include "export/urdf/urdf_update.h"
 
 using namespace mbx;
+
+namespace {
+
+// Notes join the findings once, however often the model is exported.
+void keep_notes(Mechanism& m, const ExportModel& model) {
+    for (const Finding& note : model.notes()) {
+        bool known = false;
+        for (const Finding& f : m.findings)
+            known = known || (f.code == note.code && f.subject.id == note.subject.id && f.message == note.message);
+        if (!known) m.findings.push_back(note);
+    }
+}
+
+}  // namespace
 
 extern "C" {
 
@@ -45,13 +63,26 @@ MBX_API mbx_status mbx_mechanism_export(mbx_context* context, mbx_mechanism* mec
         Mechanism& m = *mechanism->model;
         ExportModel model = export_model_of(mechanism, settings);
         write_output_files(directory, export_files(model, formats));
-        // Notes join the findings once, however often the model is exported.
-        for (const Finding& note : model.notes()) {
-            bool known = false;
-            for (const Finding& f : m.findings)
-                known = known || (f.code == note.code && f.subject.id == note.subject.id && f.message == note.message);
-            if (!known) m.findings.push_back(note);
-        }
+        keep_notes(m, model);
+    });
+}
+
+MBX_API mbx_status mbx_mechanism_update_urdf(mbx_context* context, mbx_mechanism* mechanism, const char* urdf_path,
+                                            const char* output_path) {
+    if (!context) return MBX_ERROR_INVALID_ARGUMENT;
+    if (!mechanism || !mechanism->model || !urdf_path || !urdf_path[0] || !output_path || !output_path[0])
+        return context->fail(MBX_ERROR_INVALID_ARGUMENT, "mechanism, urdf_path or output_path is NULL or empty");
+    return guarded(context, [&] {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(urdf_path, ec))
+            throw Error(MBX_ERROR_INVALID_INPUT, {}, "not a regular file: " + std::string(urdf_path), urdf_path);
+        std::string text;
+        if (!read_text_file(urdf_path, text)) throw Error(MBX_ERROR_INVALID_INPUT, {}, "cannot read " + std::string(urdf_path), urdf_path);
+        Mechanism& m = *mechanism->model;
+        ExportModel model = export_model_of(mechanism, ExportSettings{});
+        const UrdfUpdate update = update_urdf(model, text, urdf_path);
+        write_file_atomically(output_path, update.text);
+        keep_notes(m, model);
     });
 }
 

@@ -77,6 +77,7 @@ const mbx_api kApi = {
     mbx_mechanism_write_view,
     mbx_mechatronics_set_body_correction,
     mbx_mechatronics_load_drives_text,
+    mbx_mechanism_update_urdf,
 };
 
 }  // namespace

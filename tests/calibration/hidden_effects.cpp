@@ -45,6 +45,7 @@
 #include "export/common/names.h"
 #include "export/export_files.h"
 #include "export/mjcf/mjcf_layout.h"
+#include "host_adapters/urdf/urdf_adapter.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
 #include "apps/stub_host/assemblies/stub_assembly.h"
@@ -104,7 +105,11 @@ MechanismInfo mechanism_info(const std::string& name) {
     if (name == "two_link_arm")
         return {"test_assembly", "two_link_arm", "", {"two_link_arm/shoulder", "two_link_arm/elbow"}, {0.8, 1.0}};
     if (name == "fourbar") return {"builtin", "fourbar", "", {"fourbar/rev_A"}, {0.3}};
-    throw std::runtime_error("hidden effects: unknown mechanism '" + name + "' (emps_axis, two_link_arm, fourbar)");
+    if (name == "dfki_acrobot")
+        return {"urdf", std::string(MBX_SHARED_DATA) + "/measured/dfki_double_pendulum_c0/identified_model_3.1_acrobot.urdf",
+                "", {"Joint1", "Joint2"}, {0.8, 1.0}};
+    throw std::runtime_error("hidden effects: unknown mechanism '" + name +
+                             "' (emps_axis, two_link_arm, fourbar, dfki_acrobot)");
 }
 
 struct MjDeleter {
@@ -363,6 +368,10 @@ std::unique_ptr<xtest::Translated> open_mechanism(const std::string& mechanism) 
         return xtest::translate_file(info.input, o);
     }
     if (info.input_kind == "test_assembly") return xtest::translate(two_link_arm_assembly());
+    if (info.input_kind == "urdf") {
+        std::shared_ptr<mbx_files::UrdfAdapter> adapter = mbx_files::UrdfAdapter::open(info.input);
+        return xtest::translate_table(adapter->table(), adapter);
+    }
     mbx_memory::Assembly a;
     if (!mbx_stub::builtin_assembly(info.input, a)) throw std::runtime_error("no built-in " + info.input);
     return xtest::translate(std::move(a));

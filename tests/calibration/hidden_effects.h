@@ -43,7 +43,7 @@ struct EffectSpec {
 
 struct CaseSpec {
     std::string name;       // also the case's folder name
-    std::string mechanism;  // "emps_axis", "two_link_arm" or "fourbar"
+    std::string mechanism;  // "emps_axis", "two_link_arm", "fourbar" or "dfki_acrobot"
     std::vector<EffectSpec> effects;  // none: a clean case
     unsigned seed = 1;      // magnitudes, excitation phases and noise
     double fit_seconds = 8, validation_seconds = 4;
@@ -57,7 +57,7 @@ struct CaseSpec {
 struct GeneratedCase {
     std::string name;
     std::string mechanism;
-    std::string input_kind;  // "builtin", "file" or "test_assembly" (two_link_arm_assembly(), in-process only)
+    std::string input_kind;  // "builtin", "file" (PMXML), "urdf" or "test_assembly" (two_link_arm_assembly(), in-process only)
     std::string input;       // built-in name, PMXML path or test assembly name
     std::string shapes;      // VRML shapes file for a "file" input ("" otherwise)
     std::vector<HiddenEffect> hidden;
@@ -84,7 +84,9 @@ struct TrueMotion {
 
 // The mechanisms, translated by mbx's own pipeline as the calibration would
 // read them: the emps_axis sample (prismatic 40:-:41), the two-link arm
-// below, the fourbar built-in.
+// below, the fourbar built-in, and dfki_acrobot: the DFKI double pendulum's
+// own URDF (../shared/data/measured/dfki_double_pendulum_c0, joints "Joint1"
+// and "Joint2", links "Link1" and "Link2") as a user's URDF.
 std::unique_ptr<xtest::Translated> open_mechanism(const std::string& mechanism);
 
 // Two revolute joints about y hanging under gravity from a shoulder 1 m up:

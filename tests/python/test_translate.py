@@ -153,3 +153,28 @@ def test_urdf_panda_with_its_packages_and_joint_dynamics(tmp_path):
         assert "'panda_joint2': damping 0.003 N m s/rad" in report
     with mbx.translate(urdf, package_paths={"example-robot-data/robots": robots}, floating_base=True) as m:
         assert m.summary.dof == 15
+
+
+def test_urdf_update_writes_the_description_into_the_users_file(tmp_path):
+    """update_urdf: the attached description's damping and a body's mass go
+    into a copy of the user's URDF, the rest of its text unchanged, and the
+    copy reads back with them as its own."""
+    urdf = SHARED_DATA / "measured" / "dfki_double_pendulum_c0" / "identified_model_3.1_acrobot.urdf"
+    if not urdf.exists():
+        pytest.skip(f"no {urdf}")
+    description = tmp_path / "d.xml"
+    description.write_text('<mechatronics version="1"><joint constraint="Joint1" damping="0.25"/>'
+                           '<body id="Link1" mass_scale="2"/></mechatronics>\n')
+    out = tmp_path / "calibrated.urdf"
+    with mbx.translate(urdf, mass_check=False) as m:
+        mass = next(b.mass for b in m.rigid_bodies if b.id == "Link1")
+        m.attach_drives(description)
+        m.update_urdf(out)
+    before, after = urdf.read_text().splitlines(), out.read_text().splitlines()
+    changed = [(a, b) for a, b in zip(before, after) if a != b]
+    assert len(before) == len(after) and len(changed) == 3  # Joint1's dynamics, Link1's mass and inertia
+    assert changed[2] == ('    <dynamics damping="0.0" friction="0.0" />', '    <dynamics damping="0.25" friction="0.0" />')
+    with mbx.translate(out, mass_check=False) as m:
+        assert abs(next(b.mass for b in m.rigid_bodies if b.id == "Link1") - 2 * mass) < 1e-12
+        m.write_report(tmp_path / "r")
+        assert "'Joint1': damping 0.25 N m s/rad" in (tmp_path / "r" / "report.txt").read_text()

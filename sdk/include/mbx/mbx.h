@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 11u
+#define MBX_ABI_VERSION 12u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -587,6 +587,19 @@ typedef struct mbx_export_options {
  * Geometry is fetched from the host if it has not been released. */
 MBX_API mbx_status mbx_mechanism_export(mbx_context *context, mbx_mechanism *mechanism,
                                         const mbx_export_options *options, const char *directory);
+
+/* ABI 12. Writes the URDF `urdf_path` the mechanism was translated from to
+ * `output_path` (a temporary renamed over it, so it may equal urdf_path)
+ * with the mechanism's attached joint dynamics and body mass corrections in
+ * it: <dynamics damping friction> of every joint with joint dynamics, the
+ * <inertial> of the links of every corrected body. Only values that differ
+ * change; every other byte (layout, comments, unknown tags) stays as it was.
+ * What URDF cannot hold (armature, springs, asymmetric friction) is added to
+ * the mechanism's findings. Fails with MBX_ERROR_INVALID_INPUT naming the
+ * file, line and link or joint when the file is not the one the mechanism
+ * was read from (docs/urdf.md). */
+MBX_API mbx_status mbx_mechanism_update_urdf(mbx_context *context, mbx_mechanism *mechanism, const char *urdf_path,
+                                            const char *output_path);
 
 /* ------------------------------------------------------------------------ */
 /* Mechatronics (ABI 5): object library, drives, motion targets              */
@@ -1207,6 +1220,8 @@ typedef struct mbx_api {
     mbx_status (*mechatronics_set_body_correction)(mbx_context *, mbx_mechatronics *, const mbx_body_correction_desc *);
     /* --- version 11 --- */
     mbx_status (*mechatronics_load_drives_text)(mbx_context *, mbx_mechatronics *, const char *, const char *);
+    /* --- version 12 --- */
+    mbx_status (*mechanism_update_urdf)(mbx_context *, mbx_mechanism *, const char *, const char *);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"
