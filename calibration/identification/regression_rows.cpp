@@ -111,7 +111,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     for (const Record* r : records) {
         const double dt = r->sample_period();
         const double fs = 1 / dt;
-        const double cutoff = options.cutoff > 0 ? options.cutoff : std::min(25.0, fs / 40);
+        const double cutoff = options.cutoff > 0 ? options.cutoff : r->filter_cutoff();
         std::vector<std::vector<double>> q(size_t(m.nv)), qd(size_t(m.nv)), qdd(size_t(m.nv));
         for (int dof : chain.independent) {
             const Signal* p = r->find(Quantity::Position, dof);

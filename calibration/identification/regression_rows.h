@@ -52,7 +52,7 @@ struct RegressionRows {
 };
 
 struct IdentifyOptions {
-    double cutoff = 0;         // Hz; 0: chosen from the sampling rate (fs / 40, at most 25 Hz)
+    double cutoff = 0;         // Hz; 0: each record's filter_cutoff()
     double min_t_ratio = 5;    // a cause's parameters must exceed this many standard errors
     // and cut the validation error by this fraction of itself (a tenth: a
     // cause worth naming removes a visible part of what is left)

@@ -114,7 +114,7 @@ public:
         attributes(root, {"version"});
         if (root.attribute("version") && std::string(root.attribute("version").value()) != "1")
             fail(lines_.line(root), "unknown experiment version '" + std::string(root.attribute("version").value()) + "' (1 is known)");
-        bool have_time = false, have_drive = false;
+        bool have_time = false, have_drive = false, have_filter = false;
         std::set<std::string> column_names;
         const std::filesystem::path base = std::filesystem::path(exp_.path).parent_path();
         for (pugi::xml_node n : root.children()) {
@@ -203,6 +203,12 @@ public:
                 else
                     fail(line, "<drive> mode must be closed_loop, effort or free (got '" + mode + "')");
                 exp_.horizon = positive(n, "horizon", 0.5);
+            } else if (name == "filter") {
+                attributes(n, {"cutoff"});
+                if (have_filter) fail(line, "a second <filter>");
+                have_filter = true;
+                if (!n.attribute("cutoff")) fail(line, "<filter> needs cutoff (Hz)");
+                exp_.cutoff = positive(n, "cutoff", 0);
             } else if (name == "compare") {
                 attributes(n, {"joint", "body", "quantity", "weight", "start", "stop", "axis", "component", "point"});
                 CompareSpec c;

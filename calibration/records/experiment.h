@@ -68,6 +68,10 @@ struct Experiment {
     std::vector<ColumnSpec> columns;
     DriveMode mode = DriveMode::ClosedLoop;
     double horizon = 0.5;  // s, effort mode's forward-simulation windows
+    // <filter cutoff>: the low-pass (Hz) on measured positions and efforts
+    // before they are differentiated and compared; 0: from the sampling
+    // rate (Record::filter_cutoff).
+    double cutoff = 0;
     std::vector<CompareSpec> compare;
 };
 

@@ -111,6 +111,7 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
             Record r;
             r.path = path;
             r.role = rs.role;
+            r.cutoff = e.cutoff;
             for (size_t k : rows) r.t.push_back(t_raw[k] * e.time_factor);
             r.start = r.t.front(), r.stop = r.t.back();
             for (const Binding& b : bindings) {

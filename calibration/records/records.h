@@ -4,6 +4,7 @@
 // time window (start/stop) is cut here, so later stages see only the
 // samples they may use.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,7 @@ struct Record {
     std::vector<double> t;       // s
     std::vector<Signal> signals;
     std::vector<BodySignal> body_signals;
+    double cutoff = 0;  // Hz, the experiment's <filter cutoff>; 0: from the sampling rate
 
     // The signal of this body quantity (the same point, exactly), or null.
     const BodySignal* find_body(Quantity q, int body, int component, const Eigen::Vector3d& point) const {
@@ -54,6 +56,15 @@ struct Record {
         return nullptr;
     }
     double sample_period() const { return t.size() > 1 ? (t.back() - t.front()) / double(t.size() - 1) : 0; }
+    // The low-pass applied to measured positions and efforts before they are
+    // differentiated or compared: the experiment's cutoff, else a fortieth of
+    // the sampling rate (at most 25 Hz), which keeps a servo's motion band
+    // and leaves most of a current sensor's noise out.
+    double filter_cutoff() const {
+        const double dt = sample_period();
+        const double automatic = dt > 0 ? std::min(25.0, 1.0 / (40.0 * dt)) : 25.0;
+        return cutoff > 0 ? cutoff : automatic;
+    }
 };
 
 // Below this a record (after its window) cannot tell the causes apart.

@@ -400,7 +400,7 @@ SimulationProblem::SimulationProblem(const sim::Model& m, const std::vector<cons
             refuse(c.candidate.cause + " on joint '" + m.joints[size_t(c.candidate.joint)].name + "', which has no recorded effort");
 
     // Coulomb's smoothing speed: 1 % of each coordinate's RMS speed, as the linear fit's column.
-    const double cutoff = std::min(25.0, 1.0 / (40.0 * P.dt));
+    const double cutoff = first.filter_cutoff();
     P.sign_speed.assign(size_t(m.nv), 1e-3);
     std::vector<double> sum(size_t(m.nv), 0.0);
     size_t count = 0;

@@ -23,10 +23,6 @@ namespace {
                 line);
 }
 
-// The cut-off the identification uses by default (regression_rows.cpp), so
-// that an effort predicted along the filtered motion sees the same signal.
-double motion_cutoff(double dt) { return std::min(25.0, 1.0 / (40.0 * dt)); }
-
 // Fixed RK4 steps that land on every sample and stay at or below 0.5 ms, the
 // step the drive tests reproduce the EMPS rig with.
 sim::IntegratorSettings settings_for(double dt) {
@@ -68,7 +64,9 @@ MeasuredMotion measured_motion(const sim::Model& m, const Record& r, bool accele
     for (const Signal& s : r.signals) {
         if (s.quantity != Quantity::Position) continue;
         const size_t d = size_t(s.dof);
-        mm.q[d] = low_pass(s.values, dt, motion_cutoff(dt));
+        // The identification's cut-off, so that an effort predicted along
+        // the filtered motion sees the same signal.
+        mm.q[d] = low_pass(s.values, dt, r.filter_cutoff());
         mm.qd[d] = derivative(mm.q[d], dt);
         if (accelerations) mm.qdd[d] = derivative(mm.qd[d], dt);
     }
