@@ -42,6 +42,7 @@ struct Primitive {
     Vec3 axis = Vec3::UnitZ();  // unit, world; unused for weld and spherical
     bool has_limits = false;
     double lower = 0, upper = 0;  // SI
+    double velocity_limit = 0, effort_limit = 0;  // SI, the host's rated speed and effort; 0: not given
 };
 
 // Base -> chain[0] (J_N) ... chain.back() (J_1) -> Follower.

@@ -373,6 +373,13 @@ private:
                 p.upper = d.upper * scale;
             }
         }
+        if (MBX_FIELD_FITS(&d, mbx_primitive_desc, effort_limit) && p.type != MBX_PRIMITIVE_WELD) {
+            const double rated[2] = {d.velocity_limit, d.effort_limit};
+            require_finite(rated, 2, s, "joint velocity and effort limit");
+            if (d.velocity_limit < 0 || d.effort_limit < 0)
+                throw Error(MBX_ERROR_INVALID_INPUT, s, where + " has a negative velocity or effort limit");
+            p.velocity_limit = d.velocity_limit, p.effort_limit = d.effort_limit;
+        }
         return p;
     }
 

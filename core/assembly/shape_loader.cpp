@@ -57,6 +57,15 @@ int add_mesh(void* data, const mbx_mesh_desc* d) {
             s->error = who + " refers to vertex " + std::to_string(idx) + " of " + std::to_string(d->vertex_count);
             return 1;
         }
+    if (MBX_FIELD_FITS(d, mbx_mesh_desc, color)) {
+        for (int k = 0; k < 4; ++k)
+            if (!(d->color[k] >= 0 && d->color[k] <= 1)) {
+                s->error = who + " has a colour component that is not a number in 0..1 (component " +
+                           std::to_string(k) + ")";
+                return 1;
+            }
+        for (int k = 0; k < 4; ++k) mesh.color[size_t(k)] = d->color[k];
+    }
     s->out->push_back(std::move(mesh));
     return 0;
 }

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/math.h"
+#include <array>
+
 #include "mbx/mbx.h"
 #include "core/translator/mechanism.h"
 
@@ -17,6 +19,9 @@ struct Mesh {
     std::string part_id;
     std::vector<Vec3> vertices;       // body frame, metres
     std::vector<uint32_t> triangles;  // 3 per triangle
+    // The host's colour (red, green, blue, alpha in 0..1); alpha 0: none given.
+    std::array<double, 4> color{};
+    bool has_color() const { return color[3] > 0; }
 };
 
 // Loads the meshes of every part of rigid body `body`. Throws Error naming the

@@ -1,5 +1,6 @@
 #include "export/mesh/assimp_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -87,13 +88,34 @@ std::unique_ptr<aiScene> new_scene(const std::string& root_name) {
     return scene;
 }
 
-unsigned add_collision_material(aiScene& scene) {
+namespace {
+
+// A new material at the end of the scene's list.
+aiMaterial* append_material(aiScene& scene) {
     auto** list = new aiMaterial*[scene.mNumMaterials + 1]();
     for (unsigned i = 0; i < scene.mNumMaterials; ++i) list[i] = scene.mMaterials[i];
     delete[] scene.mMaterials;
     scene.mMaterials = list;
-    auto* material = new aiMaterial;
-    list[scene.mNumMaterials] = material;
+    return list[scene.mNumMaterials] = new aiMaterial;
+}
+
+}  // namespace
+
+unsigned add_colour_material(aiScene& scene, const std::array<double, 4>& rgba) {
+    aiMaterial* material = append_material(scene);
+    const aiString name("mbx_colour_" + std::to_string(scene.mNumMaterials));
+    material->AddProperty(&name, AI_MATKEY_NAME);
+    const aiColor3D colour{float(rgba[0]), float(rgba[1]), float(rgba[2])};
+    material->AddProperty(&colour, 1, AI_MATKEY_COLOR_DIFFUSE);
+    if (rgba[3] < 1) {
+        const float opacity = float(rgba[3]);
+        material->AddProperty(&opacity, 1, AI_MATKEY_OPACITY);
+    }
+    return scene.mNumMaterials++;
+}
+
+unsigned add_collision_material(aiScene& scene) {
+    aiMaterial* material = append_material(scene);
     const aiString name("mbx_collision");
     material->AddProperty(&name, AI_MATKEY_NAME);
     const aiColor3D colour(1.0f, 0.45f, 0.1f);
@@ -127,10 +149,12 @@ bool exactly_identity(const aiMatrix4x4& m) { return m == aiMatrix4x4(); }
 
 }  // namespace
 
-aiNode* add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose, aiNode* parent) {
+aiNode* add_mesh_node(aiScene& scene, const std::string& name, const std::vector<unsigned>& meshes, const Pose& pose,
+                      aiNode* parent) {
     auto node = std::make_unique<aiNode>(name);
-    node->mMeshes = new unsigned[1]{mesh};
-    node->mNumMeshes = 1;
+    node->mMeshes = new unsigned[meshes.size()];
+    std::copy(meshes.begin(), meshes.end(), node->mMeshes);
+    node->mNumMeshes = unsigned(meshes.size());
     node->mTransformation = matrix_of(pose);
     if (!parent) parent = scene.mRootNode;
     // assimp's glTF exporter writes no transform for a node whose matrix

@@ -2,6 +2,7 @@
 // (validated, so NaN or a bad index never reaches a file), scenes built from
 // those meshes, and the bytes assimp's exporters make of a scene.
 #pragma once
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,13 +30,19 @@ std::unique_ptr<aiScene> new_scene(const std::string& root_name);
 // mode BLEND) and returns its index.
 unsigned add_collision_material(aiScene& scene);
 
+// Adds a material of the host's colour (red, green, blue, alpha in 0..1; an
+// alpha below 1 makes it see-through) and returns its index.
+unsigned add_colour_material(aiScene& scene, const std::array<double, 4>& rgba);
+
 // Moves `meshes` into `scene` (replacing its mesh list).
 void set_meshes(aiScene& scene, std::vector<std::unique_ptr<aiMesh>> meshes);
 
-// Adds a node below `parent` (null: the root) that instances mesh `mesh` at
+// Adds a node below `parent` (null: the root) that instances `meshes` at
 // `pose` relative to it (a pose close to identity gets a helper parent
-// node); returns the node.
-aiNode* add_mesh_node(aiScene& scene, const std::string& name, unsigned mesh, const Pose& pose, aiNode* parent = nullptr);
+// node); returns the node. glTF writes a node's meshes as one mesh with a
+// primitive each.
+aiNode* add_mesh_node(aiScene& scene, const std::string& name, const std::vector<unsigned>& meshes, const Pose& pose,
+                      aiNode* parent = nullptr);
 
 // The main (first) blob assimp's exporter `format_id` makes of `scene`.
 // Throws Error(MBX_ERROR_INTERNAL) when assimp fails or yields companion

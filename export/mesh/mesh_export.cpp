@@ -1,7 +1,9 @@
 #include "export/mesh/mesh_export.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
+#include <map>
 
 #include "export/mesh/assimp_scene.h"
 #include "export/mesh/collision_meshes.h"
@@ -75,15 +77,32 @@ void export_scene(ExportModel& model, OutputFiles& out, bool collision) {
     // the root gets a name no body stem can have (stems are identifiers).
     std::unique_ptr<aiScene> scene = new_scene(model.settings().model_name + " (assembly)");
     std::vector<std::unique_ptr<aiMesh>> meshes;
-    std::vector<int> bodies;
+    // A body's parts in the colours the host gave them: one mesh per colour
+    // (the default grey for parts without one), all on the body's node.
+    std::map<std::array<double, 4>, unsigned> material_of;
+    std::vector<std::pair<int, std::vector<unsigned>>> bodies;  // body, its meshes
     for (size_t b = 0; b < m.bodies.size(); ++b) {
         const int body = int(b);
         if (!model.has_mesh(body)) continue;
         const RigidBody& rb = m.bodies[b];
-        meshes.push_back(combine_parts(model.shapes(body), model.mesh_stem(body), subject_of(rb), describe(rb)));
-        bodies.push_back(body);
+        std::map<std::array<double, 4>, std::vector<Mesh>> by_colour;
+        for (const Mesh& part : model.shapes(body))
+            if (!part.triangles.empty()) by_colour[part.has_color() ? part.color : std::array<double, 4>{}].push_back(part);
+        std::vector<unsigned> own;
+        for (const auto& [colour, parts] : by_colour) {
+            const std::string name = model.mesh_stem(body) + (own.empty() ? "" : "#" + std::to_string(own.size()));
+            meshes.push_back(combine_parts(parts, name, subject_of(rb), describe(rb)));
+            if (colour[3] > 0) {
+                auto found = material_of.find(colour);
+                if (found == material_of.end()) found = material_of.emplace(colour, add_colour_material(*scene, colour)).first;
+                meshes.back()->mMaterialIndex = found->second;
+            }
+            own.push_back(unsigned(meshes.size() - 1));
+        }
+        bodies.emplace_back(body, std::move(own));
     }
     if (bodies.empty()) return;  // nothing to show; an empty glTF scene would only confuse
+    const unsigned body_meshes = unsigned(meshes.size());
     std::vector<CollisionMesh> shapes;
     if (collision) shapes = collision_meshes(model, "glTF scene");
     const unsigned collision_material = shapes.empty() ? 0 : add_collision_material(*scene);
@@ -95,12 +114,13 @@ void export_scene(ExportModel& model, OutputFiles& out, bool collision) {
     // One node per body at its world pose in the assembly configuration,
     // named like its mesh file (body name made unique and file-safe).
     std::vector<aiNode*> body_node(m.bodies.size(), nullptr);
-    for (size_t i = 0; i < bodies.size(); ++i)
-        body_node[size_t(bodies[i])] = add_mesh_node(*scene, model.mesh_stem(bodies[i]), unsigned(i), m.bodies[size_t(bodies[i])].pose);
+    for (const auto& [body, own] : bodies)
+        body_node[size_t(body)] = add_mesh_node(*scene, model.mesh_stem(body), own, m.bodies[size_t(body)].pose);
     for (size_t i = 0; i < shapes.size(); ++i) {
         const CollisionMesh& c = shapes[i];
         aiNode* parent = body_node[size_t(c.body)];
-        add_mesh_node(*scene, c.node, unsigned(bodies.size() + i), parent ? c.pose : m.bodies[size_t(c.body)].pose * c.pose, parent);
+        add_mesh_node(*scene, c.node, {body_meshes + unsigned(i)}, parent ? c.pose : m.bodies[size_t(c.body)].pose * c.pose,
+                      parent);
     }
     out.push_back(OutputFile{"scene.glb", export_blob(*scene, "glb2", "the assembly scene")});
 }

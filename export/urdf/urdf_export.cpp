@@ -158,16 +158,24 @@ std::string urdf_text(ExportModel& model, const UrdfLayout& L, const std::vector
         if (u.type != "fixed" && u.type != "floating")
             xj.append_child("axis").append_attribute("xyz") = spaced_text(u.axis).c_str();
         const Drive* drive = u.spherical_axis < 0 ? model.drive_of(u.source) : nullptr;
-        if (u.has_limit || drive) {
-            // A driven joint's effort and velocity limits are its drive's;
-            // a continuous joint carries them without lower/upper.
+        // The joint's own rated speed and effort, as the host gave them.
+        const Primitive* rated = nullptr;
+        if (u.source >= 0 && u.spherical_axis < 0) {
+            const Joint& joint = model.mechanism().joints[size_t(u.source)];
+            rated = &model.mechanism().assembly.constraints[size_t(joint.constraint)].chain[size_t(joint.primitive_index)];
+        }
+        const double rated_effort = rated ? rated->effort_limit : 0, rated_velocity = rated ? rated->velocity_limit : 0;
+        if (u.has_limit || drive || rated_effort > 0 || rated_velocity > 0) {
+            // A driven joint's effort and velocity limits are its drive's,
+            // else the joint's own, else stand-ins URDF requires; a
+            // continuous joint carries them without lower/upper.
             pugi::xml_node lim = xj.append_child("limit");
             if (u.has_limit) {
                 set_number(lim, "lower", u.lower);
                 set_number(lim, "upper", u.upper);
             }
-            set_number(lim, "effort", drive ? drive->effort_limit : kUrdfEffortLimit);
-            set_number(lim, "velocity", drive ? drive->velocity_limit : kUrdfVelocityLimit);
+            set_number(lim, "effort", drive ? drive->effort_limit : rated_effort > 0 ? rated_effort : kUrdfEffortLimit);
+            set_number(lim, "velocity", drive ? drive->velocity_limit : rated_velocity > 0 ? rated_velocity : kUrdfVelocityLimit);
         }
         // URDF's dynamics: viscous damping (the motor's back-EMF braking
         // and the joint's own) and dry friction.

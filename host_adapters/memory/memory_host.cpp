@@ -149,6 +149,8 @@ int get_primitive(void* user_data, size_t constraint_index, size_t primitive_ind
     STUB_SET(out, mbx_primitive_desc, has_limits, p.has_limits ? 1 : 0);
     STUB_SET(out, mbx_primitive_desc, lower, p.lower);
     STUB_SET(out, mbx_primitive_desc, upper, p.upper);
+    STUB_SET(out, mbx_primitive_desc, velocity_limit, p.velocity_limit);
+    STUB_SET(out, mbx_primitive_desc, effort_limit, p.effort_limit);
     return 0;
 }
 
@@ -186,6 +188,7 @@ int get_shapes(void* user_data, const char* body_id, const mbx_shape_sink* sink,
         d.vertex_count = uint32_t(m.vertices.size() / 3);
         d.triangles = m.triangles.data();
         d.triangle_count = uint32_t(m.triangles.size() / 3);
+        for (int k = 0; k < 4; ++k) d.color[k] = m.color[k];
         if (sink->add_mesh(sink->sink_data, &d) != 0)
             return fail(message, message_size, "memory host: mesh %s of body %s was rejected", m.name.c_str(), body_id);
     }

@@ -43,6 +43,7 @@ struct Primitive {
     double axis[3]{0, 0, 1};
     bool has_limits = false;
     double lower = 0, upper = 0;
+    double velocity_limit = 0, effort_limit = 0;  // SI; 0: not given
 };
 
 // chain[0] is J_N (next to the base), chain.back() is J_1.
@@ -58,6 +59,7 @@ struct Mesh {
     mbx_pose pose{};
     std::vector<double> vertices;     // 3 per vertex
     std::vector<uint32_t> triangles;  // 3 per triangle, 0-based
+    double color[4] = {0, 0, 0, 0};   // red, green, blue, alpha in 0..1; alpha 0: none
 };
 
 // What the host noticed itself (served through the version-3 callbacks).

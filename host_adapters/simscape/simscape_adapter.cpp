@@ -18,6 +18,7 @@ struct SimscapeAdapter::Lazy {
         bool tried = false, loaded = false;
         mbx_memory::Mesh mesh;  // the part's, shared by its instances
         std::string error;
+        double colour[4] = {0, 0, 0, 0};  // the part's VisualProperties colour; alpha 0: none
     };
     std::string xml_file;
     double unit_m = 1;
@@ -47,7 +48,10 @@ struct SimscapeAdapter::Lazy {
                 host->add_diagnostic(std::move(d));
             }
         }
-        if (s.loaded) out.push_back(s.mesh);
+        if (s.loaded) {
+            out.push_back(s.mesh);
+            for (int k = 0; k < 4; ++k) out.back().color[k] = s.colour[k];
+        }
         return true;  // a broken part file must not fail the translation
     }
 };
@@ -160,6 +164,8 @@ std::unique_ptr<SimscapeAdapter> SimscapeAdapter::open(const std::string& xml_pa
             source.path = step_paths[k];
             source.part_name = model.parts[k].name;
             source.line = model.parts[k].geometry_line;
+            if (model.parts[k].has_colour)
+                for (int c = 0; c < 4; ++c) source.colour[c] = std::clamp(model.parts[k].colour[c], c == 3 ? 0.05 : 0.0, 1.0);
             const auto kept = preloaded.find(int(k));
             if (kept != preloaded.end()) {
                 source.tried = source.loaded = true;

@@ -1,5 +1,6 @@
 #include "urdf_adapter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -14,6 +15,18 @@ namespace mbx_files {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The visual's material colour, for the view and the glTF scene (alpha 0
+// would mean "none" to the SDK: a transparent material is drawn faintly).
+void set_colour(mbx_memory::Mesh& m, const UrdfColour& c) {
+    if (!c.given) return;
+    for (int k = 0; k < 4; ++k) m.color[k] = std::clamp(c.rgba[k], 0.0, 1.0);
+    m.color[3] = std::max(m.color[3], 0.05);
+}
+
+}  // namespace
+
 // One mesh file of a link: where it is, how it is scaled and placed.
 struct UrdfAdapter::Lazy {
     struct File {
@@ -21,6 +34,7 @@ struct UrdfAdapter::Lazy {
         Eigen::Vector3d scale = Eigen::Vector3d::Ones();
         Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // in the link frame
         int line = 0;
+        UrdfColour colour;
     };
     struct Loaded {
         bool tried = false, ok = false;
@@ -58,6 +72,7 @@ struct UrdfAdapter::Lazy {
             for (size_t v = 0; v < m.vertices.size(); ++v) m.vertices[v] *= f.scale[long(v % 3)];
             if (f.scale.prod() < 0)  // a mirroring scale turns the triangles inside out
                 for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) std::swap(m.triangles[t + 1], m.triangles[t + 2]);
+            set_colour(m, f.colour);
             // The file's own node transforms are already in its vertices; the origin places the file.
             for (int i = 0; i < 3; ++i) {
                 m.pose.position[i] = f.origin.translation()[i];
@@ -109,6 +124,7 @@ mbx_memory::Mesh primitive_mesh(const std::string& link, const UrdfShape& s) {
     m.pose = urdf_pose(at);
     m.vertices = std::move(v.vertices);
     m.triangles = std::move(v.triangles);
+    set_colour(m, s.colour);
     return m;
 }
 
@@ -211,7 +227,7 @@ std::unique_ptr<UrdfAdapter> UrdfAdapter::open(const std::string& path, const Fi
                 continue;
             }
             self->mesh_files_[s.geometry.filename] = file;
-            lazy->by_link[link.name].push_back({file, s.geometry.filename, s.geometry.scale, s.origin.pose(), s.line});
+            lazy->by_link[link.name].push_back({file, s.geometry.filename, s.geometry.scale, s.origin.pose(), s.line, s.colour});
         }
     }
 

@@ -175,18 +175,24 @@ UrdfAssembly to_assembly(const UrdfModel& model, const UrdfAssemblyOptions& opti
         c.base_frame_id = j.name + "/parent";
         c.follower_frame_id = j.name + "/child";
         const Eigen::Vector3d axis = at.linear() * j.axis;
+        // Rated speed and effort for every kind that has them; the range
+        // not for a continuous joint, whose lower and upper URDF ignores.
+        auto rated = [&](mbx_memory::Primitive p) {
+            if (j.has_limit) p.velocity_limit = j.velocity, p.effort_limit = j.effort;
+            return p;
+        };
         auto limited = [&](mbx_memory::Primitive p) {
             if (j.has_limit) {
                 p.has_limits = true;
                 p.lower = j.lower;
                 p.upper = j.upper;
             }
-            return p;
+            return rated(p);
         };
         if (j.type == "revolute") {
             c.chain.push_back(limited(primitive(MBX_PRIMITIVE_REVOLUTE, axis)));
         } else if (j.type == "continuous") {
-            c.chain.push_back(primitive(MBX_PRIMITIVE_REVOLUTE, axis));
+            c.chain.push_back(rated(primitive(MBX_PRIMITIVE_REVOLUTE, axis)));
         } else if (j.type == "prismatic") {
             c.chain.push_back(limited(primitive(MBX_PRIMITIVE_PRISMATIC, axis)));
         } else if (j.type == "fixed") {

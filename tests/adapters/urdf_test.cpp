@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -429,6 +430,40 @@ TEST_CASE("urdf round trip: joint dynamics written by mbx's URDF export come bac
     const std::string report = atest::read_file(dir.file("back/report.txt"));
     CHECK(report.find("'rev_A': damping 7 N m s/rad, Coulomb 0 N m") != std::string::npos);
     CHECK(report.find("'rev_B': damping 0.25 N m s/rad") != std::string::npos);
+}
+
+TEST_CASE("urdf round trip: a joint's rated velocity and effort reach the host table and mbx's URDF export writes them back") {
+    atest::TempDir dir("mbx_urdf_rated");
+    const std::string text = robot(std::string(kBase) + link("a") + link("b") + link("c") +
+                                   joint("rev", "revolute", "base", "a", "<axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"2\" effort=\"12.5\" velocity=\"3.25\"/>") +
+                                   joint("cont", "continuous", "a", "b", "<axis xyz=\"0 1 0\"/><limit effort=\"4\" velocity=\"9\"/>") +
+                                   joint("free", "continuous", "b", "c", "<axis xyz=\"0 1 0\"/>"));
+    atest::write_file(dir.file("r.urdf"), text);
+    const mbx_files::UrdfAssembly built = mbx_files::to_assembly(mbx_files::parse_urdf(text, "r.urdf"));
+    REQUIRE(built.assembly.constraints.size() == 3);
+    CHECK(built.assembly.constraints[0].chain[0].effort_limit == 12.5);
+    CHECK(built.assembly.constraints[0].chain[0].velocity_limit == 3.25);
+    CHECK(built.assembly.constraints[1].chain[0].effort_limit == 4);
+    CHECK_FALSE(built.assembly.constraints[1].chain[0].has_limits);
+    CHECK(built.assembly.constraints[2].chain[0].effort_limit == 0);
+
+    const atest::CliRun out = atest::run_cli(dir, "translate '" + dir.file("r.urdf") + "' --format urdf -o '" + dir.file("out") + "'");
+    INFO(out.err);
+    REQUIRE(out.code == 0);
+    const mbx_files::UrdfModel back = mbx_files::parse_urdf(atest::read_file(dir.file("out/urdf/r.urdf")), "back.urdf");
+    std::map<std::string, const mbx_files::UrdfJoint*> by_name;
+    for (const mbx_files::UrdfJoint& j : back.joints) by_name[j.name] = &j;
+    REQUIRE(by_name.count("rev"));
+    REQUIRE(by_name.count("cont"));
+    REQUIRE(by_name.count("free"));
+    CHECK(by_name["rev"]->effort == 12.5);
+    CHECK(by_name["rev"]->velocity == 3.25);
+    CHECK(by_name["rev"]->upper == 2);
+    CHECK(by_name["cont"]->type == "continuous");
+    CHECK(by_name["cont"]->effort == 4);
+    CHECK(by_name["cont"]->velocity == 9);
+    // A joint without rated values has none to write: a continuous joint no <limit>.
+    CHECK_FALSE(by_name["free"]->has_limit);
 }
 
 }  // namespace MBX_UNITY_ID

@@ -228,6 +228,11 @@ typedef struct mbx_primitive_desc {
     int32_t has_limits;
     double lower;
     double upper;
+    /* ABI 12: the joint's rated speed and effort in SI (rad/s or m/s; N m or
+     * N), as a URDF's <limit velocity effort> gives them; 0: not given. The
+     * exports write them where the format has a place for them. */
+    double velocity_limit;
+    double effort_limit;
 } mbx_primitive_desc;
 
 /* A CAD joint: Base -> J_N ... J_1 -> Follower. Primitive index 0 is J_N
@@ -253,6 +258,10 @@ typedef struct mbx_mesh_desc {
     uint32_t vertex_count;
     const uint32_t *triangles; /* 3 * triangle_count, 0-based */
     uint32_t triangle_count;
+    /* ABI 12: the colour the CAD model shows the mesh in, red green blue
+     * alpha in 0..1; alpha 0 (a zeroed field, or an older host): none given,
+     * drawn in the exports' default grey. */
+    double color[4];
 } mbx_mesh_desc;
 
 /* Where a host delivers the shapes of one body. */
