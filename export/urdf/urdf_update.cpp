@@ -8,6 +8,7 @@
 #include <map>
 
 #include "core/mechatronics/body_mass.h"
+#include "core/mechatronics/xml_text.h"
 #include "core/translator/mechanism.h"
 #include "export/urdf/xml_source_edits.h"
 
@@ -27,21 +28,6 @@ std::string exact_text(double v, double scale) {
 
 std::string vector_text(const Vec3& v, double scale) {
     return exact_text(v.x(), scale) + " " + exact_text(v.y(), scale) + " " + exact_text(v.z(), scale);
-}
-
-// Blank-separated numbers of an attribute (locale-independent); false when
-// the text holds fewer or something else.
-bool parse_numbers(const char* text, double* out, int count) {
-    const char* p = text;
-    const char* end = text + std::char_traits<char>::length(text);
-    for (int k = 0; k < count; ++k) {
-        while (p < end && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')) ++p;
-        if (p < end && *p == '+') ++p;
-        const auto r = std::from_chars(p, end, out[k]);
-        if (r.ec != std::errc() || !std::isfinite(out[k])) return false;
-        p = r.ptr;
-    }
-    return true;
 }
 
 // URDF's rpy: fixed-axis roll about x, pitch about y, yaw about z.
@@ -99,14 +85,14 @@ private:
         const pugi::xml_attribute a = e.attribute(name);
         if (!a) return fallback;
         double v = 0;
-        if (!parse_numbers(a.value(), &v, 1))
+        if (!parse_xml_number(a.value(), v))
             fail(who, edits_.line_of(e), "<" + std::string(e.name()) + "> " + name + " is not a number");
         return v;
     }
     Vec3 vector(const pugi::xml_node& e, const char* name, const Subject& who) const {
         Vec3 v = Vec3::Zero();
         const pugi::xml_attribute a = e.attribute(name);
-        if (a && !parse_numbers(a.value(), v.data(), 3))
+        if (a && !parse_xml_numbers(a.value(), 3, v.data()))
             fail(who, edits_.line_of(e), "<" + std::string(e.name()) + "> " + name + " is not three numbers");
         return v;
     }
