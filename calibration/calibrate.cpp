@@ -158,6 +158,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     const RegressionRows fit = regression_rows(rigid, fit_records, options.identify);
     const RegressionRows validation = regression_rows(rigid, validation_records, options.identify, &fit.weight);
     out.identification = identify(rigid, fit, validation, options.identify);
+    out.identification.noise_level = noise_floor(rigid, validation, validation_records);
     report(options, "identify", 0.5);
     const Identification linear = out.identification;
     out.identification = transmission_stage(base_model, fit_records, validation_records, linear);

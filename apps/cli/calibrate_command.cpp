@@ -2,6 +2,7 @@
 // calibration loop of docs/calibration.md through the C API against an
 // experiment's measured records, write calibration.json, calibration.html
 // and the extended description.xml, and print a short summary.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -111,7 +112,7 @@ int run_calibrate(const std::vector<std::string>& args) {
                 s.baseline_simulated_fit_error, s.baseline_simulated_validation_error);
     if (id) std::printf("; inverse dynamics %.2f %% / %.2f %%", s.baseline_fit_error, s.baseline_validation_error);
     std::printf("\n");
-    if (s.cause_count == 0) std::printf("no cause named: the model explains the data within its noise\n");
+    if (s.cause_count == 0) std::printf("no cause named\n");
     for (uint32_t i = 0; i < s.cause_count; ++i) {
         mbx_calibration_cause cause{};
         cause.struct_size = sizeof cause;
@@ -131,6 +132,17 @@ int run_calibrate(const std::vector<std::string>& args) {
                 s.final_simulated_validation_error);
     if (id) std::printf("; inverse dynamics %.2f %% / %.2f %%", s.final_fit_error, s.final_validation_error);
     std::printf("\n");
+    if (id && std::isfinite(s.noise_level)) {
+        // The residual against the records' own noise floor (both in the
+        // inverse-dynamics measure): what a cause could still explain.
+        const double above = std::sqrt(std::max(0.0, s.final_validation_error * s.final_validation_error -
+                                                         s.noise_level * s.noise_level));
+        if (s.final_validation_error <= 1.25 * s.noise_level)
+            std::printf("explained to the noise: the records' own noise is %.2f %% of the effort\n", s.noise_level);
+        else
+            std::printf("%.2f %% of the effort RMS left above the noise (the records' own noise: %.2f %%)\n", above,
+                        s.noise_level);
+    }
     for (uint32_t i = 0; i < s.warning_count; ++i) std::printf("warning: %s\n", mbx_calibration_get_warning(cal.h, i));
     std::printf("report: %s/calibration.html\ndata: %s/calibration.json\ndescription: %s/description.xml (%.1f s)\n",
                 out_dir.c_str(), out_dir.c_str(), out_dir.c_str(), s.wall_time);

@@ -31,8 +31,10 @@ struct SelectedCause {
 struct Identification {
     double baseline_fit_error = 0, baseline_validation_error = 0;  // %
     double final_fit_error = 0, final_validation_error = 0;        // %
-    // % of the effort no model explains. Not measured yet: NaN, which every
-    // output shows as "not measured", never as a figure.
+    // % of the weighted validation effort that is the records' own noise
+    // after the filter (noise_floor), the least error any model can reach;
+    // NaN when not measured (no effort recorded), which every output shows
+    // as "not measured", never as a figure.
     double noise_level = NAN;
     std::vector<SelectedCause> causes;
     std::vector<std::string> warnings;

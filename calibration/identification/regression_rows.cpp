@@ -5,6 +5,7 @@
 
 #include "calibration/identification/closed_chain.h"
 #include "calibration/records/filters.h"
+#include "calibration/records/noise.h"
 #include "core/finding.h"
 #include "sim/dynamics.h"
 #include "sim/joint_forces.h"
@@ -26,6 +27,50 @@ Eigen::VectorXd RegressionRows::measured() const {
     for (int s = 0; s < samples; ++s)
         for (Eigen::Index a = 0; a < n; ++a) r[s * n + a] = weight[size_t(a)] * effort(s, a);
     return r;
+}
+
+double noise_floor(const sim::Model& m, const RegressionRows& rows, const std::vector<const Record*>& records) {
+    const std::vector<SignalNoise> noise = effort_noise(records, rows.actuated);
+    if (noise.empty() || rows.samples == 0) return NAN;
+    const Eigen::Index na = Eigen::Index(rows.actuated.size());
+    // Per record, each actuated effort's filtered noise variance.
+    Eigen::MatrixXd effort_variance = Eigen::MatrixXd::Zero(Eigen::Index(records.size()), na);
+    for (const SignalNoise& n : noise) {
+        const Eigen::Index a = Eigen::Index(std::find(rows.actuated.begin(), rows.actuated.end(), n.dof) - rows.actuated.begin());
+        if (a < na) effort_variance(n.record, a) = n.filtered * n.filtered;
+    }
+    // Per record, each coordinate's acceleration noise (rad/s^2 or m/s^2)
+    // from its measured position's noise.
+    Eigen::MatrixXd acceleration_sigma = Eigen::MatrixXd::Zero(Eigen::Index(records.size()), m.nv);
+    const bool hinges = m.nq == m.nv;
+    for (size_t r = 0; hinges && r < records.size(); ++r) {
+        const Record& rec = *records[r];
+        const double dt = rec.sample_period();
+        if (!(dt > 0)) continue;
+        const double share = low_pass_acceleration_share(dt, rec.filter_cutoff());
+        for (const Signal& s : rec.signals)
+            if (s.quantity == Quantity::Position && s.dof >= 0 && s.dof < m.nv)
+                acceleration_sigma(Eigen::Index(r), s.dof) =
+                    white_noise_sigma(s.values, dt, 2 * rec.filter_cutoff()) * std::sqrt(share) / (dt * dt);
+    }
+    const bool positions = hinges && acceleration_sigma.cwiseAbs().maxCoeff() > 0;
+    sim::Data d(m);
+    double expected = 0;
+    for (int s = 0; s < rows.samples && size_t(s) < rows.row_record.size(); ++s) {
+        const int r = rows.row_record[size_t(s)];
+        if (r < 0 || size_t(r) >= records.size()) continue;
+        Eigen::VectorXd spread = effort_variance.row(r).transpose();
+        if (positions) {
+            d.q = rows.q.row(s).transpose();
+            sim::update_positions(m, d);
+            sim::mass_matrix(m, d);
+            for (Eigen::Index a = 0; a < na; ++a)
+                spread[a] += (d.M.row(rows.actuated[size_t(a)]).cwiseProduct(acceleration_sigma.row(r))).squaredNorm();
+        }
+        for (Eigen::Index a = 0; a < na; ++a) expected += rows.weight[size_t(a)] * rows.weight[size_t(a)] * spread[a];
+    }
+    const double measured = rows.measured().squaredNorm();
+    return measured > 0 ? 100 * std::sqrt(expected / measured) : NAN;
 }
 
 Eigen::Matrix<double, kInertialParameters, 1> inertial_parameters(const sim::Inertia<double>& inertia) {

@@ -51,6 +51,17 @@ struct RegressionRows {
     Eigen::VectorXd measured() const; // weighted measured effort, same order
 };
 
+// The records' own effort noise in the rows' measure (docs/calibration.md,
+// "Noise floor"): what a model that explained everything else would still
+// leave, as % of the weighted measured effort, like the errors; from each
+// record's white effort noise (records/noise.h) after its low-pass, on
+// `rows` built from `records`. NaN when no record holds an effort.
+// The measured positions' own noise (an encoder's counts) adds what the
+// model's mass matrix makes of it, differentiated twice and filtered (for a
+// model whose coordinates are all hinges and slides; along the tree's mass
+// matrix, so a closed chain's is an estimate).
+double noise_floor(const sim::Model& m, const RegressionRows& rows, const std::vector<const Record*>& records);
+
 struct IdentifyOptions {
     double cutoff = 0;         // Hz; 0: each record's filter_cutoff()
     double min_t_ratio = 5;    // a cause's parameters must exceed this many standard errors

@@ -442,7 +442,15 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
                                                        : "free from the measured initial state";
     h += "<p>Experiment " + esc(shown_path(experiment.path)) + ", the model driven " + driven + ". Calibrated in " +
          num(r.wall_time, 3) + " s." +
-         (std::isfinite(id.noise_level) ? " Noise level (what no model explains): " + num(id.noise_level) + " %." : "") +
+         (std::isfinite(id.noise_level)
+              ? " The records' own effort noise after the filter (what no model explains): " + num(id.noise_level) +
+                    " % of the validation effort; " +
+                    (id.final_validation_error <= 1.25 * id.noise_level
+                         ? std::string("the calibrated model explains the rest to the noise.")
+                         : num(std::sqrt(std::max(0.0, id.final_validation_error * id.final_validation_error -
+                                                           id.noise_level * id.noise_level))) +
+                               " % of it is left above the noise.")
+              : std::string()) +
          "</p>\n<table><tr><th>record</th><th>role</th></tr>\n";
     for (size_t i = 0; i < r.record_paths.size(); ++i)
         h += "<tr><td>" + esc(shown_path(r.record_paths[i])) + "</td><td>" + role_name(r.record_roles[i]) + "</td></tr>\n";

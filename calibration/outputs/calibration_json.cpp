@@ -189,7 +189,7 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
     errors(w, model, r, r.final_step());
     w.member("noise_level", id.noise_level);  // (null when not finite)
     if (!std::isfinite(id.noise_level))
-        w.member("noise_level_note", "not measured: mbx does not yet measure the noise floor of the records");
+        w.member("noise_level_note", "not measured: no record holds an effort");
 
     w.key("description").begin_object();
     w.key("joints").begin_array();

@@ -882,7 +882,8 @@ def read_trajectory_csv(path) -> dict:
 class CalibrationSummary:
     """Errors in percent, 100 ||y - y_model|| / ||y||, before and after, on
     the fit and validation records (``mbx_calibration_summary``).
-    ``noise_level`` is nan: mbx does not measure the records' noise floor yet."""
+    ``noise_level`` is the validation records' own effort noise after the
+    filter, in the same measure (nan when no record holds an effort)."""
     cause_count: int
     warning_count: int
     baseline_fit_error: float

@@ -288,7 +288,8 @@ TEST_CASE("calibration files: calibration.html is one self-contained page with e
     CHECK(h.find("time [s]") != std::string::npos);
     CHECK(h.find("the validation record is short") != std::string::npos);
     CHECK(h.find("emps_test_pulses.csv (validation)") != std::string::npos);
-    CHECK(h.find("Noise level (what no model explains): 1.25 %") != std::string::npos);
+    // The noise floor and what stands above it: sqrt(4.7^2 - 1.25^2) = 4.531 %.
+    CHECK(h.find("own effort noise after the filter (what no model explains): 1.25 % of the validation effort; 4.531 % of it is left above the noise.") != std::string::npos);
     // A time axis over 0..2.99 s gets round ticks.
     CHECK(h.find(">1.5</text>") != std::string::npos);
     // Small: 600 trace points, 800 residual points.
@@ -451,8 +452,9 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
     CHECK(count(h, "https://") == 0);
     CHECK(count(h, "http://") == count(h, "<svg"));
     for (const SelectedCause& c : r.identification.causes) CHECK(h.find(c.candidate.cause) != std::string::npos);
-    // The records' noise floor is not measured: the page gives no figure for it.
-    CHECK(h.find("Noise level") == std::string::npos);
+    // The records' noise floor, measured from them, is on the page.
+    REQUIRE(std::isfinite(r.identification.noise_level));
+    CHECK(h.find("The records' own effort noise after the filter (what no model explains): ") != std::string::npos);
     // Thinned traces (~1500 points each) keep the page small.
     CHECK(h.size() < 1000000);
     MESSAGE("EMPS calibration.html: " << h.size() << " bytes, " << r.traces.size() << " traces, "
@@ -461,7 +463,7 @@ TEST_CASE("calibration files: the EMPS calibration's files") {
         const std::string cmd = "python3 -c 'import json,sys; d = json.load(open(sys.argv[1])); "
                                 "assert len(d[\"causes\"]) == " + std::to_string(r.identification.causes.size()) +
                                 "; assert d[\"baseline\"][\"simulated\"][\"signals\"]"
-                                "; assert d[\"noise_level\"] is None and \"not measured\" in d[\"noise_level_note\"]' " +
+                                "; assert d[\"noise_level\"] > 0 and \"noise_level_note\" not in d' " +
                                 out + "/calibration.json";
         CHECK(std::system(cmd.c_str()) == 0);
     }

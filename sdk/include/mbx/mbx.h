@@ -1021,7 +1021,7 @@ typedef struct mbx_calibration_summary {
     double final_fit_error, final_validation_error;
     double baseline_simulated_fit_error, baseline_simulated_validation_error;
     double final_simulated_fit_error, final_simulated_validation_error;
-    double noise_level; /* % of the effort no model explains; NaN: not measured (mbx does not measure it yet) */
+    double noise_level; /* % of the effort that is the records' own noise (what no model explains); NaN: none */
     double wall_time;   /* s */
 } mbx_calibration_summary;
 
