@@ -94,8 +94,7 @@ bool same_causes(const Identification& a, const Identification& b) {
 }
 
 std::string step_label(const sim::Model& m, const SelectedCause& c) {
-    if (c.candidate.body >= 0) return c.candidate.cause + " on body '" + m.bodies[size_t(c.candidate.body)].name + "'";
-    return c.candidate.cause + " on joint '" + m.joints[size_t(c.candidate.joint)].name + "'";
+    return c.candidate.cause + " on " + subject_text(m, c.candidate);
 }
 
 std::vector<ResidualCloud> residual_clouds(const sim::Model& m, const RegressionRows& fit, const Identification& id,
@@ -157,8 +156,11 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     const sim::Model rigid = rigid_limit(base_model);
     const RegressionRows fit = regression_rows(rigid, fit_records, options.identify);
     const RegressionRows validation = regression_rows(rigid, validation_records, options.identify, &fit.weight);
-    out.identification = identify(rigid, fit, validation, options.identify);
-    out.identification.noise_level = noise_floor(rigid, validation, validation_records);
+    IdentifyOptions identify_options = options.identify;
+    const double floor = noise_floor(rigid, validation, validation_records);
+    if (std::isnan(identify_options.noise_level)) identify_options.noise_level = floor;
+    out.identification = identify(rigid, fit, validation, identify_options);
+    out.identification.noise_level = floor;
     report(options, "identify", 0.5);
     const Identification linear = out.identification;
     out.identification = transmission_stage(base_model, fit_records, validation_records, linear);
@@ -209,6 +211,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
             out.joints = ext.joints;
             out.drives = ext.drives;
             out.bodies = ext.bodies;
+            out.mounting_tilt = ext.tilt, out.mounting_tilted = ext.tilted;
             out.unwritten = ext.unwritten;
             out.warnings.insert(out.warnings.end(), ext.warnings.begin(), ext.warnings.end());
         }

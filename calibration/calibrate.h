@@ -130,6 +130,10 @@ struct CalibrationResult {
     std::vector<JointUpdate> joints;
     std::vector<DriveUpdate> drives;
     std::vector<BodyUpdate> bodies;
+    // A mounting tilt found (rad, gravity turned about world x then y), on
+    // top of the description's <mounting>.
+    Eigen::Vector2d mounting_tilt = Eigen::Vector2d::Zero();
+    bool mounting_tilted = false;
     std::vector<UnwrittenCause> unwritten;
     std::vector<std::string> warnings;
     ContactStageResult contact;  // ran: the contact stage instead of identification

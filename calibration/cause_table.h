@@ -33,6 +33,7 @@ enum class CauseId {
     MassError,
     Compliance,
     Backlash,
+    MountingTilt,
 };
 
 // What a cause is a property of, which decides where the catalogue offers it.
@@ -41,6 +42,7 @@ enum class CauseSubject {
     AnyJoint,       // any coordinate (a sensor)
     Body,           // a moving body with mass
     Transmission,   // an actuated joint's drive train: offered by the simulation stage, not the catalogue
+    Mounting,       // the whole machine's base (joint and body -1): offered once
 };
 
 // What identify() does with a candidate's nonlinear setting before judging it.

@@ -137,6 +137,7 @@ int run_calibrate(const std::vector<std::string>& args) {
         // inverse-dynamics measure): what a cause could still explain.
         const double above = std::sqrt(std::max(0.0, s.final_validation_error * s.final_validation_error -
                                                          s.noise_level * s.noise_level));
+        // (the calibration's own rule, explained_to_noise in calibration/identification/regression_rows.h)
         if (s.final_validation_error <= 1.25 * s.noise_level)
             std::printf("explained to the noise: the records' own noise is %.2f %% of the effort\n", s.noise_level);
         else

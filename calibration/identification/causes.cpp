@@ -169,6 +169,12 @@ BodyCorrection Candidate::body_correction(const Eigen::VectorXd& theta) const {
     return b;
 }
 
+std::string subject_text(const sim::Model& m, const Candidate& c) {
+    if (c.body >= 0 && size_t(c.body) < m.bodies.size()) return "body '" + m.bodies[size_t(c.body)].name + "'";
+    if (c.joint >= 0 && size_t(c.joint) < m.joints.size()) return "joint '" + m.joints[size_t(c.joint)].name + "'";
+    return "the mounting";
+}
+
 std::vector<Candidate> catalogue(const sim::Model& m, const RegressionRows& fit) {
     // Subject by subject, each in the table's order (which breaks ties).
     std::vector<Candidate> out;
@@ -192,6 +198,7 @@ std::vector<Candidate> catalogue(const sim::Model& m, const RegressionRows& fit)
         c.body = b, c.body_inertia = m.bodies[size_t(b)].inertia;
         if (c.body_inertia.mass > 0) offer(CauseSubject::Body, c);
     }
+    offer(CauseSubject::Mounting, Candidate());
     return out;
 }
 

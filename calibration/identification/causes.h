@@ -116,7 +116,11 @@ struct Candidate {
 // and each inertia entry they see changed, or all of them.
 std::vector<Candidate> body_candidates(const RegressionRows& fit, int body, const sim::Inertia<double>& inertia);
 
-// Every candidate for the actuated joints, the measured coordinates and the moving bodies of `m`.
+// "joint 'name'", "body 'name'" or "the mounting": a candidate's subject in messages.
+std::string subject_text(const sim::Model& m, const Candidate& c);
+
+// Every candidate for the actuated joints, the measured coordinates, the
+// moving bodies of `m` and its mounting.
 std::vector<Candidate> catalogue(const sim::Model& m, const RegressionRows& fit);
 
 // The smoothing speed of sign(q̇) for a coordinate: a small fraction of

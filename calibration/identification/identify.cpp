@@ -1,6 +1,7 @@
 #include "calibration/identification/identify.h"
 
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "calibration/cause_table.h"
@@ -50,11 +51,6 @@ double bic(double sse, Eigen::Index n, Eigen::Index k) {
     return double(n) * std::log(std::max(sse, 1e-300) / double(n)) + double(k) * std::log(double(n));
 }
 
-std::string subject_text(const sim::Model& m, const Candidate& c) {
-    if (c.body >= 0) return "body '" + m.bodies[size_t(c.body)].name + "'";
-    return "joint '" + m.joints[size_t(c.joint)].name + "'";
-}
-
 double correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     const double na = a.norm(), nb = b.norm();
     return na > 0 && nb > 0 ? a.dot(b) / (na * nb) : 0;
@@ -69,6 +65,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
     const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();
     out.baseline_fit_error = percent(y.squaredNorm(), meas);
     out.baseline_validation_error = percent(yv.squaredNorm(), meas_v);
+    out.noise_level = options.noise_level;
 
     std::vector<Candidate> candidates = catalogue(m, fit);
     std::vector<Eigen::MatrixXd> cols, cols_v;
@@ -77,7 +74,8 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
     std::vector<size_t> chosen;
     Eigen::MatrixXd X(y.size(), 0), Xv(yv.size(), 0);
     Fit current = least_squares(X, y, Xv, yv);
-    std::vector<size_t> refused;  // candidates the data could not tell from another
+    std::vector<size_t> refused;  // candidates the data could not tell from a named one
+    std::map<size_t, std::string> carried_with;  // a named candidate: the group's others, in words
     auto taken = [&](const Candidate& c) {
         for (size_t k : refused)
             if (candidates[k].cause == c.cause && candidates[k].joint == c.joint && candidates[k].body == c.body)
@@ -90,6 +88,11 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         return false;
     };
     for (int round = 0; round < options.max_causes; ++round) {
+        // Nothing stands above the records' noise: any cause named now would
+        // be named for fitting it. (Not the verdict's margin: a small effect
+        // beside the noise adds in quadrature, 1.24 % over a 1.2 % floor is
+        // a 0.3 % damping, and validation with its BIC margin still judges it.)
+        if (std::isfinite(options.noise_level) && percent(current.sse_validation, meas_v) <= options.noise_level) break;
         std::vector<double> gain_of(candidates.size(), -INFINITY);
         int best = -1;
         Fit best_fit;
@@ -297,8 +300,9 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             };
             const Eigen::VectorXd rb = unexplained(cols[size_t(best)].col(0));
             const Candidate& cb = candidates[size_t(best)];
-            int rival = -1, close = -1;
-            double rival_r = 0, close_r = 0;
+            int close = -1;
+            double close_r = 0, rival_r = 0;
+            std::vector<size_t> rivals;  // of other causes, validation not preferring the best beyond the margin
             for (size_t k = 0; k < candidates.size(); ++k) {
                 const Candidate& o = candidates[k];
                 if (int(k) == best || !(gain_of[k] > 0.5 * best_gain) || o.cause == cb.cause) continue;
@@ -310,13 +314,23 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 // Told apart when validation prefers the best one strongly (the BIC margin).
                 const double sse_rival = current.sse_validation - gain_of[k];
                 if (bic(sse_rival, nv, 1) - bic(best_fit.sse_validation, nv, 1) > options.bic_margin) continue;
-                if (r > options.max_rival_correlation && r > rival_r) rival = int(k), rival_r = r;
+                if (r > options.max_rival_correlation) {
+                    // One per cause and subject (a Stribeck law's grid, a friction's variants).
+                    bool seen = false;
+                    for (size_t& q : rivals)
+                        if (candidates[q].cause == o.cause && candidates[q].joint == o.joint && candidates[q].body == o.body) {
+                            if (gain_of[k] > gain_of[q]) q = k;
+                            seen = true;
+                        }
+                    if (!seen) rivals.push_back(k);
+                    rival_r = std::max(rival_r, r);
+                }
             }
             // Validation prefers the best one, but not by much, and another
             // cause's column is nearly the same: named, with a warning that
             // these records can hardly tell the two apart (a mass that
             // carries nearly all the inertia against an actuator gain, say).
-            if (rival < 0 && close >= 0) {
+            if (rivals.empty() && close >= 0) {
                 const Candidate& o = candidates[size_t(close)];
                 std::ostringstream s;
                 s.precision(4);
@@ -327,35 +341,46 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                   << " %): these records hardly tell them apart; a record with another load or motion would";
                 out.warnings.push_back(s.str());
             }
-            if (rival >= 0) {
-                const Candidate& o = candidates[size_t(rival)];
-                std::ostringstream s;
+            if (!rivals.empty()) {
+                // A group the records cannot tell apart still explains the
+                // data: the model carries one of it, the catalogue's simplest
+                // (the same fit, within the correlation), the others are not
+                // offered again, and the search goes on with the other causes.
+                std::vector<size_t> group = rivals;
+                group.push_back(size_t(best));
+                size_t carried = size_t(best);
+                for (size_t k : group) {
+                    const auto rank = [&](size_t i) { return std::pair{int(candidates[i].kind().id), i}; };
+                    if (rank(k) < rank(carried)) carried = k;
+                }
+                std::ostringstream s, others;
                 s.precision(5);
-                s << cb.cause << " on " << subject_text(m, cb) << " and " << o.cause << " on " << subject_text(m, o)
-                  << " have the same signature in these data (r = " << rival_r << ", validation "
-                  << percent(current.sse_validation - best_gain, meas_v) << " % and "
-                  << percent(current.sse_validation - gain_of[size_t(rival)], meas_v) << " %): ";
-                if (rival_r > options.same_column_correlation) {
-                    const int first = std::min(best, rival);
-                    if (first != best) {
-                        // Same column: the same fit with the catalogue's first.
-                        best = first;
-                        Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()),
-                            Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
-                        X2 << X, cols[size_t(best)];
-                        Xv2 << Xv, cols_v[size_t(best)];
-                        best_fit = least_squares(X2, y, Xv2, yv);
-                        if (!best_fit.ok) break;
+                for (size_t k : group) {
+                    s << (k == group.front() ? "" : k == group.back() ? " and " : ", ") << candidates[k].cause << " on "
+                      << subject_text(m, candidates[k]) << " (validation "
+                      << percent(current.sse_validation - (int(k) == best ? best_gain : gain_of[k]), meas_v) << " %)";
+                    if (k != carried) {
+                        others << (others.tellp() > 0 ? ", " : "") << candidates[k].cause << " on "
+                               << subject_text(m, candidates[k]);
+                        refused.push_back(k);
                     }
-                    s << "one parameter, named as " << candidates[size_t(best)].cause
-                      << " (the catalogue's simpler cause)";
-                    out.warnings.push_back(s.str());
-                } else {
-                    s << "neither is named";
-                    out.warnings.push_back(s.str());
-                    refused.push_back(size_t(best));
-                    refused.push_back(size_t(rival));
-                    continue;
+                }
+                s << " have the same signature in these data (r up to " << rival_r << "): the model carries "
+                  << candidates[carried].cause << " on " << subject_text(m, candidates[carried]);
+                if (rival_r > options.same_column_correlation)
+                    s << " (one parameter; the catalogue's simpler cause)";
+                else
+                    s << " (the catalogue's simpler cause); a record with another load or motion would tell which";
+                out.warnings.push_back(s.str());
+                carried_with[carried] = others.str();
+                if (int(carried) != best) {
+                    best = int(carried);
+                    Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()),
+                        Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
+                    X2 << X, cols[size_t(best)];
+                    Xv2 << Xv, cols_v[size_t(best)];
+                    best_fit = least_squares(X2, y, Xv2, yv);
+                    if (!best_fit.ok) break;
                 }
             }
         }
@@ -369,6 +394,8 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             s.precision(3);
             s << "residual correlates with the " << c.cause << " column on " << subject_text(m, c)
               << " (r = " << correlation(residual, cols[size_t(best)].col(0)) << ")";
+            if (const auto w = carried_with.find(size_t(best)); w != carried_with.end())
+                s << "; carried for a group these records cannot tell apart, with " << w->second;
             sc.evidence = s.str();
         }
         chosen.push_back(size_t(best));

@@ -1,5 +1,6 @@
 #include "calibration/identification/regression_rows.h"
 
+#include <cstdlib>
 #include <algorithm>
 #include <cmath>
 
@@ -51,7 +52,7 @@ double noise_floor(const sim::Model& m, const RegressionRows& rows, const std::v
         for (const Signal& s : rec.signals)
             if (s.quantity == Quantity::Position && s.dof >= 0 && s.dof < m.nv)
                 acceleration_sigma(Eigen::Index(r), s.dof) =
-                    white_noise_sigma(s.values, dt, 2 * rec.filter_cutoff()) * std::sqrt(share) / (dt * dt);
+                    white_noise_sigma(s.values, dt, 2 * rec.filter_cutoff(), NoiseShape::Uniform) * std::sqrt(share) / (dt * dt);
     }
     const bool positions = hinges && acceleration_sigma.cwiseAbs().maxCoeff() > 0;
     sim::Data d(m);
@@ -213,7 +214,10 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     rows.effort_by_position.assign(size_t(m.nv), Eigen::MatrixXd::Zero(S, A));
     rows.effort_by_position2 = rows.effort_by_position;
     rows.inertial_regressor.assign(size_t(m.body_count()), Eigen::MatrixXd::Zero(S * A, kInertialParameters));
-    sim::Data d(m), probe(m), unit_data(unit);
+    rows.gravity = m.gravity;
+    rows.effort_by_gravity.assign(3, Eigen::MatrixXd::Zero(S, A));
+    sim::Model held = m;  // its gravity set to each world axis in turn
+    sim::Data d(m), probe(m), unit_data(unit), held_data(held);
     // The actuated efforts the model needs at a sample (positions in dd.q,
     // the loops closed from there): the tree's inverse dynamics, projected
     // onto the independent coordinates when there are loops.
@@ -265,6 +269,17 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             }
             rows.effort_by_position[size_t(dof)].row(s) = ((moved - moved_back) / (2 * h)).transpose();
             rows.effort_by_position2[size_t(dof)].row(s) = ((moved - 2 * base + moved_back) / (h * h)).transpose();
+        }
+        // The efforts that hold the bodies against a unit gravity along each axis.
+        held_data.q = q_full, held_data.v.setZero();
+        sim::update_kinematics(held, held_data);
+        const Eigen::VectorXd still = Eigen::VectorXd::Zero(m.nv);
+        for (int k = 0; k < 3; ++k) {
+            held.gravity = Eigen::Vector3d::Unit(k);
+            sim::inverse_dynamics(held, held_data, still, tau);
+            const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
+            for (Eigen::Index a = 0; a < A; ++a)
+                rows.effort_by_gravity[size_t(k)](s, a) = share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
         }
         // Inverse dynamics is linear in each body's inertial parameters:
         // one pass per body and unit parameter (kinematics shared).

@@ -3,6 +3,7 @@
 // predicts each actuated joint's effort; the measured effort minus that is
 // what the causes (calibration/causes.h) must explain.
 #pragma once
+#include <cmath>
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -37,6 +38,13 @@ struct RegressionRows {
     // share of the effort; times their change, what a mass, centre-of-mass or
     // inertia error changes.
     std::vector<Eigen::MatrixXd> inertial_regressor;
+    // The model's gravity, and per world axis k the actuated efforts that
+    // hold the bodies still at each row's position under a unit gravity
+    // along e_k ((samples x actuated) each): inverse dynamics is linear in
+    // gravity, so a gravity turned by a small angle about axis a changes
+    // the effort by the angle times the sum over k of (a x gravity)_k times these.
+    Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+    std::vector<Eigen::MatrixXd> effort_by_gravity;
     // The filtered signals between the rows, per record: columns that are
     // nonlinear in the motion are evaluated at the full rate and filtered
     // like the effort (a friction law's step at a reversal reaches the
@@ -81,7 +89,19 @@ struct IdentifyOptions {
     // tell the two apart.
     double ambiguous_correlation = 0.99;
     double ambiguous_error_ratio = 1.5;
+    // The validation records' noise floor (noise_floor(), % of the weighted
+    // effort; NaN: not measured): the selection stops once the error left is
+    // no more than it.
+    double noise_level = NAN;
 };
+
+// Whether an inverse-dynamics error (%) is the noise floor's (%): within a
+// quarter above it, the scatter of the floor's own estimate and of the
+// error's over a few thousand filtered rows. False when the floor is not
+// measured.
+inline bool explained_to_noise(double error, double noise_level) {
+    return std::isfinite(noise_level) && noise_level > 0 && error <= 1.25 * noise_level;
+}
 
 // Rows from records. Trees: the position of every coordinate must be
 // measured. Closed chains: exactly the loops' independent coordinates

@@ -1,6 +1,7 @@
 #include "calibration/outputs/calibration_files.h"
 
 #include "calibration/outputs/calibration_files_detail.h"
+#include "calibration/cause_table.h"
 #include <cstdio>
 
 #include "core/finding.h"
@@ -41,6 +42,9 @@ CauseSubject cause_subject(const sim::Model& model, const Candidate& c) {
     } else if (c.joint >= 0 && size_t(c.joint) < model.joints.size()) {
         s.id = model.joints[size_t(c.joint)].constraint_id;
         s.name = model.joints[size_t(c.joint)].name;
+    } else {
+        s.kind = "mounting";
+        s.name = "mounting";
     }
     return s;
 }
@@ -113,8 +117,8 @@ void check_result(const sim::Model& model, const CalibrationResult& r) {
                     std::to_string(e.joint));
     }
     for (const SelectedCause& c : r.identification.causes) {
-        const bool body = c.candidate.body >= 0;
-        if (body ? size_t(c.candidate.body) >= model.bodies.size() : !joint_ok(c.candidate.joint))
+        const bool body = c.candidate.body >= 0, mounting = c.candidate.kind().id == CauseId::MountingTilt;
+        if (mounting ? false : body ? size_t(c.candidate.body) >= model.bodies.size() : !joint_ok(c.candidate.joint))
             bad("cause " + c.candidate.cause + " has no subject in the model");
     }
     for (const Trace& t : r.traces) {

@@ -19,7 +19,7 @@ const char* role_name(Role r);
 // What a cause acts on: a joint (CAD constraint id and name) or a body (CAD
 // part id and name).
 struct CauseSubject {
-    const char* kind = "joint";  // "joint" or "body"
+    const char* kind = "joint";  // "joint", "body" or "mounting"
     std::string id, name;
 };
 CauseSubject cause_subject(const sim::Model& model, const Candidate& c);

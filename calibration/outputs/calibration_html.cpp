@@ -445,7 +445,7 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
          (std::isfinite(id.noise_level)
               ? " The records' own effort noise after the filter (what no model explains): " + num(id.noise_level) +
                     " % of the validation effort; " +
-                    (id.final_validation_error <= 1.25 * id.noise_level
+                    (explained_to_noise(id.final_validation_error, id.noise_level)
                          ? std::string("the calibrated model explains the rest to the noise.")
                          : num(std::sqrt(std::max(0.0, id.final_validation_error * id.final_validation_error -
                                                            id.noise_level * id.noise_level))) +

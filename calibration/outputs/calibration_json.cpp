@@ -190,6 +190,8 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
     w.member("noise_level", id.noise_level);  // (null when not finite)
     if (!std::isfinite(id.noise_level))
         w.member("noise_level_note", "not measured: no record holds an effort");
+    else
+        w.member("explained_to_noise", explained_to_noise(id.final_validation_error, id.noise_level));
 
     w.key("description").begin_object();
     w.key("joints").begin_array();
@@ -223,6 +225,12 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
         w.end_object();
     }
     w.end_array();
+    if (r.mounting_tilted) {
+        // rad about the world's x then y axis, on top of the description's <mounting>
+        w.key("mounting").begin_object(JsonWriter::Layout::Inline);
+        w.member("tilt_x", r.mounting_tilt[0]).member("tilt_y", r.mounting_tilt[1]);
+        w.end_object();
+    }
     w.key("unwritten").begin_array();
     for (const UnwrittenCause& u : r.unwritten) {
         const SelectedCause& c = id.causes[size_t(u.cause)];

@@ -180,6 +180,9 @@ std::string summary(const sim::Model& model, const CalibrationResult& r, bool de
               << ", " << number_text(c.com_shift[2]) << ") m";
         if (!c.inertia_change.isZero(0)) s << " inertia about it changed by " << numbers_text(c.inertia_change) << " kg m^2";
     }
+    if (r.mounting_tilted)
+        s << "\n     mounting tilted by " << number_text(r.mounting_tilt[0] * 180 / M_PI) << " deg about x and "
+          << number_text(r.mounting_tilt[1] * 180 / M_PI) << " deg about y (gravity turned in the base frame)";
     for (const std::string& n : notes) s << "\n     " << n;
     for (const UnwrittenCause& u : r.unwritten) {
         const SelectedCause& c = r.identification.causes[size_t(u.cause)];
@@ -314,6 +317,19 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
         if (!total.com_shift.isZero(0)) n.remove_attribute("com_shift"), n.append_attribute("com_shift") = numbers_text(total.com_shift).c_str();
         if (!total.inertia_change.isZero(0))
             n.remove_attribute("inertia_change"), n.append_attribute("inertia_change") = numbers_text(total.inertia_change).c_str();
+    }
+
+    // A mounting tilt adds to the input's <mounting> (small angles), in its unit.
+    if (r.mounting_tilted) {
+        if (!r.mounting_tilt.allFinite()) fail(file, 0, "the calibrated mounting tilt is not finite");
+        pugi::xml_node n = root.child("mounting");
+        if (!n) {
+            n = insert_element(root, last_non_text(root), "mounting");
+            n.append_attribute("unit") = "deg";
+        }
+        const double to_unit = std::string(n.attribute("unit").as_string("rad")) == "deg" ? 180 / M_PI : 1.0;
+        set_always(n, "tilt_x", n.attribute("tilt_x").as_double(0) + r.mounting_tilt[0] * to_unit);
+        set_always(n, "tilt_y", n.attribute("tilt_y").as_double(0) + r.mounting_tilt[1] * to_unit);
     }
 
     for (const std::string& n : write_contact_update(root, r.contact, file)) notes.push_back(n);

@@ -32,16 +32,21 @@ template <class F> double band_mean(double dt, double cutoff, F f) {
 
 }  // namespace
 
-double white_noise_sigma(const std::vector<double>& x, double dt, double band_edge) {
+double white_noise_sigma(const std::vector<double>& x, double dt, double band_edge, NoiseShape shape) {
     if (x.size() < 8 || !(dt > 0)) return 0;
     const bool filtered = band_edge > 0 && band_edge < 0.5 / dt;
     const std::vector<double> smooth = filtered ? low_pass(x, dt, band_edge) : std::vector<double>(x.size(), 0.0);
     std::vector<double> squares(x.size());
     for (size_t k = 0; k < x.size(); ++k) squares[k] = (x[k] - smooth[k]) * (x[k] - smooth[k]);
+    const double kept = filtered ? band_mean(dt, band_edge, [](double g) { return (1 - g) * (1 - g); }) : 1.0;
+    if (shape == NoiseShape::Uniform) {
+        double sum = 0;
+        for (double v : squares) sum += v;
+        return std::sqrt(sum / double(squares.size()) / kept);
+    }
     const auto middle = squares.begin() + std::ptrdiff_t(squares.size() / 2);
     std::nth_element(squares.begin(), middle, squares.end());
     constexpr double kChiSquare1Median = 0.454936423119572;  // the median of a chi-square of one degree
-    const double kept = filtered ? band_mean(dt, band_edge, [](double g) { return (1 - g) * (1 - g); }) : 1.0;
     return std::sqrt(*middle / kChiSquare1Median / kept);
 }
 

@@ -18,7 +18,14 @@ namespace mbx::calibration {
 // the removal keeps. A noise that falls off with frequency (a drive's
 // current filter) is taken at its level above band_edge. 0 for fewer than
 // 8 samples.
-double white_noise_sigma(const std::vector<double>& x, double dt, double band_edge);
+//
+// A measured position is smooth (no steps) but its noise is an encoder's
+// quantisation, uniform rather than Gaussian, whose median square is 0.61
+// of a Gaussian's of the same variance (1.28 times the sigma): positions
+// take the mean square instead (NoiseShape::Uniform).
+enum class NoiseShape { Gaussian, Uniform };
+double white_noise_sigma(const std::vector<double>& x, double dt, double band_edge,
+                         NoiseShape shape = NoiseShape::Gaussian);
 
 // The share of a white noise's variance that low_pass (filters.h) at
 // `cutoff` Hz and sampling period `dt` lets through: the squared gain of the

@@ -14,6 +14,9 @@ namespace mbx::calibration {
 struct ModelExtension {
     sim::BuildOptions options;            // the description's, with the causes' joint dynamics and delays
     std::vector<BodyCorrection> body_corrections;  // per sim body (identity: unchanged)
+    // A mounting tilt found (rad about world x, y; options.gravity turned by it).
+    Eigen::Vector2d tilt = Eigen::Vector2d::Zero();
+    bool tilted = false;
     std::vector<double> drive_gain;       // per drive: the actuator's effort per commanded effort
     ReplayAdjustments adjust;
     std::vector<JointUpdate> joints;

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/mechatronics/mounting.h"
 #include "core/mechatronics/body_mass.h"
 #include "core/mechatronics/drive_quantities.h"
 #include "core/mechatronics/contact_description.h"
@@ -91,6 +92,7 @@ struct MechatronicSpec {
     std::vector<JointDynamicsSpec> joint_dynamics;
     std::vector<BodyMassSpec> body_masses;  // <body> corrections, e.g. written by mbx calibrate
     ContactSpec contact;                    // <collision> shapes and <contact> materials
+    MountingSpec mounting;                  // <mounting>: gravity turned in the base frame
 };
 
 // The joint-level linear servo a drive amounts to, in continuous time and

@@ -34,6 +34,7 @@ const std::map<std::string, std::set<std::string>>& allowed_attributes() {
                    "stribeck_velocity"}},
         {"transmission", {"stiffness", "damping", "motor_inertia", "backlash"}},
         {"body", {"id", "mass_scale", "com_shift", "inertia_change"}},
+        {"mounting", {"tilt_x", "tilt_y", "unit"}},
     };
     return table;
 }
@@ -78,8 +79,9 @@ public:
             else if (name == "drive") drive(n);
             else if (name == "joint") joint(n);
             else if (name == "body") body(n);
+            else if (name == "mounting") mounting(n);
             else if (name == "collision" || name == "contact") read_contact_element(n, lines_, file_, spec_.contact, errors_);
-            else error(n, "", "unknown element <" + name + "> (library, drive, joint, body)");
+            else error(n, "", "unknown element <" + name + "> (library, drive, joint, body, mounting, collision, contact)");
         }
     }
 
@@ -199,6 +201,27 @@ private:
             return -1;
         }
         return int(p);
+    }
+
+    void mounting(const pugi::xml_node& n) {
+        bad_ = false;
+        check_attributes(n, "<mounting>");
+        for (pugi::xml_node c : n.children())
+            if (c.type() == pugi::node_element)
+                error(c, "<mounting>", "unknown element <" + std::string(c.name()) + "> in <mounting> (it takes attributes only)");
+        const std::string unit = n.attribute("unit").as_string("rad");
+        const double factor = unit == "rad" ? 1.0 : unit == "deg" ? M_PI / 180 : 0.0;
+        if (factor == 0) error(n, "<mounting>", "unit = '" + unit + "' is not rad or deg");
+        MountingSpec m;
+        m.given = true, m.file = file_, m.line = lines_.line(n);
+        m.tilt_x = number(n, "tilt_x", 0, "<mounting>") * factor;
+        m.tilt_y = number(n, "tilt_y", 0, "<mounting>") * factor;
+        // A few degrees is a floor out of level; beyond a right angle is no mounting tilt at all.
+        for (double v : {m.tilt_x, m.tilt_y})
+            if (!(std::abs(v) <= M_PI / 2)) error(n, "<mounting>", "a tilt must be finite and at most 90 degrees");
+        if (spec_.mounting.given && spec_.mounting.file == file_)
+            error(n, "<mounting>", "a second <mounting> (the first is at line " + std::to_string(spec_.mounting.line) + ")");
+        if (!bad_) spec_.mounting = m;
     }
 
     void body(const pugi::xml_node& n) {

@@ -48,6 +48,7 @@ MBX_API mbx_status mbx_calibrate(mbx_context* context, const mbx_mechanism* mech
                 if (!std::isfinite(o.gravity[k])) bad_argument("gravity is not finite");
             build.gravity = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
         }
+        build.gravity = tilted_gravity(build.gravity, mechanism->mounting);
         build.drives = mechanism->drives;
         build.joint_dynamics = sim::joint_dynamics_by_joint(mechanism->joint_dynamics);
         build.transmissions = sim::transmissions_by_joint(mechanism->joint_dynamics);
@@ -82,6 +83,11 @@ MBX_API mbx_status mbx_calibrate(mbx_context* context, const mbx_mechanism* mech
                 handle->subject_kinds.push_back(MBX_SUBJECT_RIGID_BODY);
                 handle->subject_ids.push_back(model.bodies[size_t(c.body)].id);
                 handle->subject_names.push_back(model.bodies[size_t(c.body)].name);
+            } else if (c.joint < 0) {
+                // The mounting: a property of the whole model.
+                handle->subject_kinds.push_back(MBX_SUBJECT_MODEL);
+                handle->subject_ids.push_back("");
+                handle->subject_names.push_back(model.name);
             } else {
                 const sim::JointT<double>& j = model.joints[size_t(c.joint)];
                 handle->subject_kinds.push_back(MBX_SUBJECT_CONSTRAINT);

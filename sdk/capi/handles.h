@@ -55,6 +55,9 @@ struct mbx_mechanism {
     // Collision shapes and contact materials of the attached description,
     // resolved to body frames (hulls wait for the simulator to load meshes).
     mbx::ResolvedContact contact;
+    // The attached description's <mounting>: the simulator's and the
+    // calibration's gravity turned by it.
+    mbx::MountingSpec mounting;
 
     // Meshes of rigid body `body`, asked from the host once, then cached.
     // `m` is passed because during translation `model` is not set yet.

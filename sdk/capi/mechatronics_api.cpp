@@ -282,6 +282,7 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
             mechanism->joint_dynamics.clear();
             mechanism->body_masses.clear();
             mechanism->contact = {};
+            mechanism->mounting = {};
             if (mechanism->cad_inertia) apply_body_masses(*mechanism->model, *mechanism->cad_inertia, {});
             return;
         }
@@ -319,6 +320,7 @@ MBX_API mbx_status mbx_mechanism_set_mechatronics(mbx_context* context, mbx_mech
         mechanism->drives = std::move(drives);
         mechanism->joint_dynamics = std::move(dynamics);
         mechanism->contact = std::move(contact);
+        mechanism->mounting = m->spec.mounting;
         if (!masses.empty() && !mechanism->cad_inertia)
             mechanism->cad_inertia = std::make_unique<CadInertia>(cad_inertia(*mechanism->model));
         if (mechanism->cad_inertia) apply_body_masses(*mechanism->model, *mechanism->cad_inertia, masses);

@@ -68,6 +68,7 @@ MBX_API mbx_status mbx_sim_model_create(mbx_context* context, const mbx_mechanis
                 if (!std::isfinite(o.gravity[k])) bad_argument("gravity is not finite");
             build.gravity = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
         }
+        build.gravity = tilted_gravity(build.gravity, mechanism->mounting);
         build.drives = mechanism->drives;
         build.joint_dynamics = joint_dynamics_by_joint(mechanism->joint_dynamics);
         build.transmissions = transmissions_by_joint(mechanism->joint_dynamics);

@@ -82,7 +82,7 @@ TEST_CASE("calibration: every cause of the table is found by its name and by its
         CHECK((k.candidates != nullptr) == (k.subject != CauseSubject::Transmission));
         CHECK(simulation_supports(k.name) == k.simulated);
     }
-    CHECK(names.size() == 13);
+    CHECK(names.size() == 14);
     try {
         cause_kind("gearbox_whine");
         FAIL("an unknown cause was found");
@@ -111,6 +111,38 @@ TEST_CASE("calibration: the catalogue offers the table's causes on their subject
     CHECK(count["mass_error"] >= 2);
     CHECK(count.count("compliance") == 0);
     CHECK(count.count("backlash") == 0);
+    // The arm swings about y: a mounting turned about y is seen, one about x
+    // (out of its plane) moves no joint, so the tilt is offered about y alone.
+    REQUIRE(count["mounting_tilt"] == 1);
+    const Candidate& tilt = find(all, "mounting_tilt", -1);
+    CHECK(tilt.parameters == std::vector<std::string>{"tilt_y"});
+    {
+        // Its column is the effort change per radian of gravity turned about
+        // y: the model's own inverse dynamics under a gravity turned by a
+        // small angle, differenced, at every row.
+        const Eigen::MatrixXd column = tilt.columns(rows);
+        sim::Model turned = m;
+        const double h = 1e-6;
+        turned.gravity = Eigen::AngleAxisd(h, Eigen::Vector3d::UnitY()) * m.gravity;
+        sim::Data d0(m), d1(turned);
+        Eigen::VectorXd tau0, tau1;
+        int compared = 0;
+        for (Eigen::Index s = 0; s < rows.samples; s += 11) {
+            for (sim::Data* d : {&d0, &d1}) d->q = rows.q.row(s).transpose(), d->v = rows.qd.row(s).transpose();
+            sim::update_kinematics(m, d0), sim::update_kinematics(turned, d1);
+            const Eigen::VectorXd qdd = rows.qdd.row(s).transpose();
+            sim::inverse_dynamics(m, d0, qdd, tau0);
+            sim::inverse_dynamics(turned, d1, qdd, tau1);
+            for (Eigen::Index a = 0; a < Eigen::Index(rows.actuated.size()); ++a) {
+                const double expected = rows.weight[size_t(a)] * (tau1 - tau0)[rows.actuated[size_t(a)]] / h;
+                CHECK(column(s * Eigen::Index(rows.actuated.size()) + a, 0) == mbx_test::within(expected, 1e-5 * (1 + std::abs(expected)), "a difference quotient of 1e-6 rad"));
+                ++compared;
+            }
+        }
+        CHECK(compared > 20);
+        CHECK(tilt.physical(Eigen::VectorXd::Constant(1, 0.05)));
+        CHECK_FALSE(tilt.physical(Eigen::VectorXd::Constant(1, 0.3)));
+    }
     // In the table's order (the order breaks ties between equal columns).
     int last = -1;
     for (const Candidate& c : all) {

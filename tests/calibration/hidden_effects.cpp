@@ -86,6 +86,28 @@ mbx_memory::Assembly two_link_arm_assembly() {
     return a;
 }
 
+mbx_memory::Assembly yaw_arm_assembly() {
+    using namespace mbx_stub::build;
+    mbx_memory::Assembly a;
+    a.name = "yaw_arm";
+    a.source = "mbx hidden-effect generator: yaw-pitch-pitch arm (m, kg)";
+    const mbx_units si{1, 1, 1};
+    Builder b(a, "yaw_arm", si, si);
+    const Mat3 I = Mat3::Identity();
+    const Vec3 yaw(0, 0, 1.1), shoulder(0.1, 0, 1.0), elbow(0.1, 0, 0.70), tip(0.1, 0, 0.45);
+    b.body("ground", "Ground", MBX_BODY_GROUND, 5.0, I, Vec3::Zero(), Vec3(0, 0, 0.5), box_inertia(5.0, 0.1, 0.1, 1.0));
+    b.body("turntable", "Turntable", 0, 1.0, I, yaw, Vec3(0.05, 0, 1.05), box_inertia(1.0, 0.2, 0.05, 0.1));
+    b.body("upper", "Upper arm", 0, 2.0, I, shoulder, (shoulder + elbow) / 2, box_inertia(2.0, 0.04, 0.04, 0.30));
+    b.body("forearm", "Forearm", 0, 1.0, I, elbow, (elbow + tip) / 2, box_inertia(1.0, 0.03, 0.03, 0.25));
+    b.joint("yaw", "ground", "turntable", yaw, I, {revolute(Vec3::UnitZ())}, MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
+    b.joint("shoulder", "turntable", "upper", shoulder, I, {revolute(Vec3::UnitY())}, MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
+    b.joint("elbow", "upper", "forearm", elbow, I, {revolute(Vec3::UnitY())}, MBX_FRAME_IN_WORLD, MBX_FRAME_IN_WORLD);
+    b.mesh("turntable", box_mesh("plate", Vec3(0.2, 0.05, 0.1), I, Vec3(0.05, 0, -0.05)));
+    b.mesh("upper", box_mesh("bar", Vec3(0.04, 0.04, 0.30), I, Vec3(0, 0, -0.15)));
+    b.mesh("forearm", box_mesh("bar", Vec3(0.03, 0.03, 0.25), I, Vec3(0, 0, -0.125)));
+    return a;
+}
+
 namespace {
 
 constexpr double kStep = 0.5e-3;      // MuJoCo's step (s)
@@ -104,12 +126,14 @@ MechanismInfo mechanism_info(const std::string& name) {
         return {"file", samples + "/emps_axis/emps_axis.xml", samples + "/emps_axis/emps_axis_a.wrl", {"40:-:41"}, {0.04}};
     if (name == "two_link_arm")
         return {"test_assembly", "two_link_arm", "", {"two_link_arm/shoulder", "two_link_arm/elbow"}, {0.8, 1.0}};
+    if (name == "yaw_arm")
+        return {"test_assembly", "yaw_arm", "", {"yaw_arm/yaw", "yaw_arm/shoulder", "yaw_arm/elbow"}, {1.2, 0.8, 1.0}};
     if (name == "fourbar") return {"builtin", "fourbar", "", {"fourbar/rev_A"}, {0.3}};
     if (name == "dfki_acrobot")
         return {"urdf", std::string(MBX_SHARED_DATA) + "/measured/dfki_double_pendulum_c0/identified_model_3.1_acrobot.urdf",
                 "", {"Joint1", "Joint2"}, {0.8, 1.0}};
     throw std::runtime_error("hidden effects: unknown mechanism '" + name +
-                             "' (emps_axis, two_link_arm, fourbar, dfki_acrobot)");
+                             "' (emps_axis, two_link_arm, yaw_arm, fourbar, dfki_acrobot)");
 }
 
 struct MjDeleter {
@@ -367,7 +391,8 @@ std::unique_ptr<xtest::Translated> open_mechanism(const std::string& mechanism) 
         o.shapes_path = info.shapes;
         return xtest::translate_file(info.input, o);
     }
-    if (info.input_kind == "test_assembly") return xtest::translate(two_link_arm_assembly());
+    if (info.input_kind == "test_assembly")
+        return xtest::translate(info.input == "yaw_arm" ? yaw_arm_assembly() : two_link_arm_assembly());
     if (info.input_kind == "urdf") {
         std::shared_ptr<mbx_files::UrdfAdapter> adapter = mbx_files::UrdfAdapter::open(info.input);
         return xtest::translate_table(adapter->table(), adapter);
@@ -497,6 +522,18 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         const double value = rng.uniform(e.low, e.high);
         HiddenEffect h;
         h.cause = e.cause;
+        if (e.cause == "mounting_tilt") {
+            // The floor out of level: MuJoCo's gravity turned by `value` rad
+            // about the world axis the subject names ("x" or "y").
+            if (e.subject != "x" && e.subject != "y")
+                throw std::runtime_error("hidden effects: mounting_tilt's subject is the axis, x or y");
+            const Eigen::Vector3d axis = e.subject == "x" ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+            const Eigen::Vector3d g = Eigen::AngleAxisd(value, axis) * Eigen::Vector3d(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
+            for (int k = 0; k < 3; ++k) m->opt.gravity[k] = g[k];
+            h.parameters = {{"tilt_" + e.subject, value}};
+            out.hidden.push_back(h);
+            continue;
+        }
         if (e.cause == "mass_error" || e.cause == "com_shift" || e.cause == "inertia_error") {
             int sb = -1;
             for (size_t b = 1; b < model.bodies.size(); ++b)

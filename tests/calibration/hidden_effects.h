@@ -43,7 +43,7 @@ struct EffectSpec {
 
 struct CaseSpec {
     std::string name;       // also the case's folder name
-    std::string mechanism;  // "emps_axis", "two_link_arm", "fourbar" or "dfki_acrobot"
+    std::string mechanism;  // "emps_axis", "two_link_arm", "yaw_arm", "fourbar" or "dfki_acrobot"
     std::vector<EffectSpec> effects;  // none: a clean case
     unsigned seed = 1;      // magnitudes, excitation phases and noise
     double fit_seconds = 8, validation_seconds = 4;
@@ -94,6 +94,14 @@ std::unique_ptr<xtest::Translated> open_mechanism(const std::string& mechanism);
 // "two_link_arm/shoulder" and "two_link_arm/elbow"; bodies
 // "two_link_arm/upper" and "two_link_arm/forearm".
 mbx_memory::Assembly two_link_arm_assembly();
+
+// A yaw-pitch-pitch arm: a turntable about z 1.1 m up, the two-link arm's
+// links (pitch about y) hung from a shoulder 0.1 m off the yaw axis. Joints
+// "yaw_arm/yaw", "yaw_arm/shoulder", "yaw_arm/elbow". A tilted mounting
+// loads its yaw joint with a torque that turns with the yaw angle, which no
+// joint cause has (on a planar arm a tilt in its plane is a sensor offset
+// of the first joint, and out of it nothing).
+mbx_memory::Assembly yaw_arm_assembly();
 
 // Writes fit.csv, validation.csv, experiment.xml, truth.json and the MJCF
 // export (mjcf/) into out_dir (created). Throws std::runtime_error on a bad

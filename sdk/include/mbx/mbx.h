@@ -1028,7 +1028,8 @@ typedef struct mbx_calibration_summary {
 typedef struct mbx_calibration_cause {
     uint32_t struct_size;
     const char *name;            /* coulomb_friction, viscous_friction, effort_offset, ... */
-    mbx_subject_kind subject_kind; /* MBX_SUBJECT_CONSTRAINT (a joint) or MBX_SUBJECT_RIGID_BODY */
+    mbx_subject_kind subject_kind; /* MBX_SUBJECT_CONSTRAINT (a joint), MBX_SUBJECT_RIGID_BODY, or
+                                      MBX_SUBJECT_MODEL (mounting_tilt: the whole machine's base) */
     const char *subject_id;      /* CAD constraint id, or the body's id */
     const char *subject_name;
     const char *evidence;        /* the signature on the residual, in words and numbers */
