@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
     return 0;
 }
 
-// doctest's implementation last: it brings in <signal.h>, whose si_value
+// doctest's implementation last: it brings in <signal.h>, whose value_in_si
 // macro would break the SDK headers above.
 #define DOCTEST_CONFIG_IMPLEMENT
 #include <doctest/doctest.h>

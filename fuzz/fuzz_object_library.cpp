@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             for (const mbx::LibraryObject& object : cls.objects) {
                 const mbx::ObjectLibrary::Found found = library.find(object.id);
                 if (!found.object) __builtin_trap();  // a loaded object must be found by its ID
-                for (const auto& p : cls.parameters) (void)library.si_value(found, p.name);
+                for (const auto& p : cls.parameters) (void)library.value_in_si(found, p.name);
             }
     return 0;
 }

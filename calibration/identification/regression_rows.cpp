@@ -1,6 +1,5 @@
 #include "calibration/identification/regression_rows.h"
 
-#include <cstdlib>
 #include <algorithm>
 #include <cmath>
 
@@ -142,18 +141,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                             "' has a measured effort but no measured position in every record");
     ClosedChain chain = closed_chain(m, measured);
     const size_t na = rows.actuated.size();
-    std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
-    for (size_t a = 0; a < na; ++a)
-        actuated_at[a] = Eigen::Index(std::find(chain.independent.begin(), chain.independent.end(), rows.actuated[a]) -
-                                      chain.independent.begin());
-
-    sim::Model unit = without_inertia(m);
-
-    struct Sample {
-        Eigen::VectorXd q, qd, qdd, effort, rate;
-        bool first = false;  // of its record: the loops are closed from the assembly pose
-    };
-    std::vector<Sample> kept;
+    std::vector<RowSample> kept;
     for (const Record* r : records) {
         const double dt = r->sample_period();
         const double fs = 1 / dt;
@@ -190,7 +178,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         const size_t step = std::max<size_t>(1, size_t(std::floor(fs / (4 * cutoff))));
         const size_t edge = size_t(std::ceil(fs / cutoff));
         for (size_t k = edge; k + edge < n; k += step) {
-            Sample s;
+            RowSample s;
             s.first = k == edge;
             rows.row_record.push_back(record), rows.row_sample.push_back(int(k));
             s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
@@ -205,9 +193,36 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             kept.push_back(std::move(s));
         }
     }
-    rows.samples = int(kept.size());
-    if (rows.samples < 10)
+    if (kept.size() < 10)
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "too few samples for identification");
+    fill_rows(m, chain, kept, rows);
+    if (weights) {
+        rows.weight = *weights;
+    } else {
+        // Each actuated joint weighs by its own effort level, so a joint in
+        // N and one in N m count alike.
+        rows.weight = effort_weights(rows);
+    }
+    return rows;
+}
+
+std::vector<double> effort_weights(const RegressionRows& rows) {
+    std::vector<double> weight;
+    for (Eigen::Index a = 0; a < rows.effort.cols(); ++a) {
+        const double rms = std::sqrt(rows.effort.col(a).squaredNorm() / double(rows.samples));
+        weight.push_back(rms > 0 ? 1 / rms : 1.0);
+    }
+    return weight;
+}
+
+void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& kept, RegressionRows& rows) {
+    const size_t na = rows.actuated.size();
+    std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
+    for (size_t a = 0; a < na; ++a)
+        actuated_at[a] = Eigen::Index(std::find(chain.independent.begin(), chain.independent.end(), rows.actuated[a]) -
+                                      chain.independent.begin());
+    sim::Model unit = without_inertia(m);
+    rows.samples = int(kept.size());
     const Eigen::Index S = rows.samples, A = Eigen::Index(na);
     rows.q.resize(S, m.nq), rows.qd.resize(S, m.nv), rows.qdd.resize(S, m.nv);
     rows.effort.resize(S, A), rows.effort_rate.resize(S, A), rows.model_effort.resize(S, A);
@@ -223,7 +238,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     // onto the independent coordinates when there are loops.
     Eigen::MatrixXd G;
     Eigen::VectorXd tau, qd, qdd;
-    auto needed = [&](sim::Data& dd, const Sample& x, Eigen::VectorXd& out) {
+    auto needed = [&](sim::Data& dd, const RowSample& x, Eigen::VectorXd& out) {
         qd = x.qd, qdd = x.qdd;
         if (chain.active()) chain.close(m, dd, qd, qdd, G);
         dd.v = qd;
@@ -238,7 +253,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     };
     Eigen::VectorXd base, moved, moved_back;
     for (Eigen::Index s = 0; s < S; ++s) {
-        const Sample& x = kept[size_t(s)];
+        const RowSample& x = kept[size_t(s)];
         // Dependent positions start from the last sample's (or the assembly pose at a record's start).
         const Eigen::VectorXd start = x.first || s == 0 ? m.q_reference : Eigen::VectorXd(d.q);
         d.q = start;
@@ -263,7 +278,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             for (int side : {1, -1}) {
                 probe.q = q_full;
                 probe.q[qi] += side * h;
-                Sample shifted = x;
+                RowSample shifted = x;
                 shifted.q[qi] += side * h;
                 needed(probe, shifted, side > 0 ? moved : moved_back);
             }
@@ -299,17 +314,6 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             unit.bodies[size_t(b)].inertia = sim::Inertia<double>();
         }
     }
-    if (weights) {
-        rows.weight = *weights;
-    } else {
-        // Each actuated joint weighs by its own effort level, so a joint in
-        // N and one in N m count alike.
-        for (Eigen::Index a = 0; a < A; ++a) {
-            const double rms = std::sqrt(rows.effort.col(a).squaredNorm() / double(S));
-            rows.weight.push_back(rms > 0 ? 1 / rms : 1.0);
-        }
-    }
-    return rows;
 }
 
 }  // namespace mbx::calibration

@@ -103,6 +103,25 @@ inline bool explained_to_noise(double error, double noise_level) {
     return std::isfinite(noise_level) && noise_level > 0 && error <= 1.25 * noise_level;
 }
 
+// One row's motion before the model sees it: the independent coordinates'
+// positions (in a full q, the others a start), speeds and accelerations,
+// and the measured efforts and their rates per actuated coordinate.
+struct RowSample {
+    Eigen::VectorXd q, qd, qdd, effort, rate;
+    bool first = false;  // of its record: the loops are closed from the assembly pose
+};
+
+struct ClosedChain;
+
+// The rows at `samples` (rows.actuated set): the loops closed, the model's
+// efforts, their sensitivities and the inertial and gravity regressors;
+// rows.weight is left as it is.
+void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& samples, RegressionRows& rows);
+
+// Per actuated coordinate 1 / RMS of rows.effort: each joint weighs by its
+// own effort level, so a joint in N and one in N m count alike.
+std::vector<double> effort_weights(const RegressionRows& rows);
+
 // Rows from records. Trees: the position of every coordinate must be
 // measured. Closed chains: exactly the loops' independent coordinates
 // (every actuated one among them); the others are solved from the

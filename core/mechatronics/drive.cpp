@@ -205,8 +205,8 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
         if (!good) continue;
         d.motor = *mc;
         d.motor_name = motor.object->name;
-        d.armature_resistance = spec.library.si_value(motor_found, "Ra").value_or(0);
-        d.armature_inductance = spec.library.si_value(motor_found, "La").value_or(0);
+        d.armature_resistance = spec.library.value_in_si(motor_found, "Ra").value_or(0);
+        d.armature_inductance = spec.library.value_in_si(motor_found, "La").value_or(0);
 
         if (transmission.object) {
             const LibraryObject transmission_object = apply_overrides(transmission, s.overrides, error);
@@ -242,7 +242,7 @@ std::vector<Drive> resolve_drives(const MechatronicSpec& spec, const Mechanism& 
             error("a current amplifier needs a positive gain (A per unit of controller output)");
             continue;
         }
-        double va_nominal = spec.library.si_value(motor_found, "VaNominal").value_or(0);
+        double va_nominal = spec.library.value_in_si(motor_found, "VaNominal").value_or(0);
         d.output_limit = s.controller.output_limit > 0 ? s.controller.output_limit : voltage ? va_nominal : 0;
         if (!(d.output_limit > 0)) {
             error("a current-mode drive needs an output limit (the amplifier's input range)");

@@ -8,7 +8,7 @@ namespace {
 
 bool need(const ObjectLibrary& lib, const ObjectLibrary::Found& f, const char* name, double& out,
           std::string& error) {
-    const std::optional<double> v = lib.si_value(f, name);
+    const std::optional<double> v = lib.value_in_si(f, name);
     if (!v) {
         error = "class '" + f.cls->name + "' gives no numeric '" + name + "'";
         return false;
@@ -31,7 +31,7 @@ std::optional<DcMotorConstants> dc_motor_constants(const ObjectLibrary& lib, con
         !need(lib, motor, "IaNominal", ia, error) || !need(lib, motor, "rpmNominal", w, error) ||
         !need(lib, motor, "Ra", ra, error))
         return std::nullopt;
-    c.ratio = lib.si_value(motor, "Ratio").value_or(1.0);
+    c.ratio = lib.value_in_si(motor, "Ratio").value_or(1.0);
     const double emf = va - ra * ia;
     if (!(w > 0) || !(emf > 0) || !(ra > 0)) {
         error = "nominal values give no positive back-EMF constant (Va - Ra Ia must be > 0 at a speed > 0)";

@@ -288,7 +288,7 @@ ObjectLibrary::Found ObjectLibrary::find(const std::string& id) const {
     return {};
 }
 
-std::optional<double> ObjectLibrary::si_value(const Found& f, const std::string& parameter) const {
+std::optional<double> ObjectLibrary::value_in_si(const Found& f, const std::string& parameter) const {
     if (!f.cls || !f.object) return std::nullopt;
     const ParameterDecl* d = f.cls->parameter(parameter);
     const auto it = f.object->values.find(parameter);

@@ -85,7 +85,8 @@ public:
     // By ID (case-insensitive); {nullptr, nullptr} when absent.
     Found find(const std::string& id) const;
     // SI value of `parameter` of `object`, or nullopt when it has none.
-    std::optional<double> si_value(const Found& f, const std::string& parameter) const;
+    // (Not si_value: <signal.h> defines that name as a macro.)
+    std::optional<double> value_in_si(const Found& f, const std::string& parameter) const;
 
 private:
     std::vector<LibraryFolder> folders_;

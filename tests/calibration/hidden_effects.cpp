@@ -724,7 +724,8 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
             for (size_t i = 0; i < na; ++i) {
                 const double q = d->qpos[m->jnt_qposadr[m->dof_jntid[act_dof[i]]]], v = d->qvel[act_dof[i]];
                 double r, rd;
-                ref[i].value(time, r, rd);
+                if (rec == 0 && spec.fit_reference) spec.fit_reference(i, time, r, rd);
+                else ref[i].value(time, r, rd);
                 u[i] = kp[i] * (r - (q + je[i].sensor_offset)) + kd[i] * (rd - v);
                 history[i].push_back(u[i]);
                 const int back = int(history[i].size()) - 1 - je[i].delay_steps;
@@ -765,7 +766,9 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         // Noise (white, a fraction of each joint's effort RMS) and quantisation.
         std::vector<double> sigma(na);
         for (size_t i = 0; i < na; ++i)
-            sigma[i] = spec.noise_fraction * std::sqrt(tm.commanded.col(Eigen::Index(i)).squaredNorm() / samples);
+            sigma[i] = i < spec.noise_sigma.size()
+                           ? spec.noise_sigma[i]
+                           : spec.noise_fraction * std::sqrt(tm.commanded.col(Eigen::Index(i)).squaredNorm() / samples);
         tm.effort_noise_sigma_first = sigma[0];
         std::string csv = "t";
         for (size_t i = 0; i < na; ++i) csv += "," + stems[i] + ".q," + stems[i] + ".effort";

@@ -9,6 +9,7 @@
 // the docs/calibration.md format plus truth.json for people.
 #pragma once
 #include <Eigen/Dense>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -48,10 +49,16 @@ struct CaseSpec {
     unsigned seed = 1;      // magnitudes, excitation phases and noise
     double fit_seconds = 8, validation_seconds = 4;
     double noise_fraction = 0.015;  // effort noise sigma over the record's effort RMS
+    // Per actuated joint, the effort noise sigma itself (N m, N) in place of
+    // noise_fraction: a sensor's noise that does not follow the motion.
+    std::vector<double> noise_sigma;
     // Rests in the excitation: every 2.7 s the reference fades out and holds
     // still for 0.4 s (standstill data separates an effort offset from
     // asymmetric Coulomb friction).
     bool holds = false;
+    // The fit record's reference per actuated joint (position and speed at
+    // t) in place of the random multi-sine: a designed excitation.
+    std::function<void(size_t joint, double t, double& r, double& rd)> fit_reference;
 };
 
 struct GeneratedCase {

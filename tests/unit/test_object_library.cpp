@@ -59,7 +59,7 @@ TEST_CASE("object library: the bundled library reads without errors and holds th
     REQUIRE(kondo.object);
     CHECK(kondo.object->name == "KRS-784ICS");
     CHECK(kondo.cls->modelica == "Modelica.Electrical.Machines.BasicMachines.DCMachines.DC_PermanentMagnet");
-    CHECK(*lib.si_value(kondo, "rpmNominal") == mbx_test::relative(8200 * 2 * M_PI / 60, 1e-6));
+    CHECK(*lib.value_in_si(kondo, "rpmNominal") == mbx_test::relative(8200 * 2 * M_PI / 60, 1e-6));
 
     // By hand: k = (8 V - 0.78 Ohm * 1.2 A) / (8200 rpm = 858.70 rad/s) = 8.2264e-3 N m/A;
     // stall torque k * 8 / 0.78 = 0.084373 N m; no-load speed 8 / k = 972.48 rad/s;

@@ -1,0 +1,365 @@
+#include "calibration/excitation/excitation.h"
+
+#include <algorithm>
+#include <random>
+#include <sstream>
+
+#include "calibration/cause_table.h"
+#include "calibration/identification/closed_chain.h"
+#include "core/finding.h"
+
+namespace mbx::calibration {
+
+void FourierReference::at(double t, double period, double& q, double& qd, double& qdd) const {
+    const double w = 2 * M_PI / period;
+    q = q0, qd = 0, qdd = 0;
+    for (size_t l = 0; l < a.size(); ++l) {
+        const double lw = double(l + 1) * w, s = std::sin(lw * t), c = std::cos(lw * t);
+        q += a[l] * s + b[l] * (c - 1);
+        qd += lw * (a[l] * c - b[l] * s);
+        qdd -= lw * lw * (a[l] * s + b[l] * c);
+    }
+}
+
+RegressionRows motion_rows(const sim::Model& m, const std::vector<int>& dofs, const SampledMotion& motion) {
+    std::vector<char> measured(size_t(m.nv), 0);
+    for (int dof : dofs) measured[size_t(dof)] = 1;
+    ClosedChain chain = closed_chain(m, measured);
+    RegressionRows rows;
+    rows.actuated = dofs;
+    const Eigen::Index na = Eigen::Index(dofs.size());
+    std::vector<RowSample> samples(motion.t.size());
+    for (size_t k = 0; k < samples.size(); ++k) {
+        RowSample& s = samples[k];
+        s.first = k == 0;
+        s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
+        for (size_t i = 0; i < dofs.size(); ++i) {
+            s.q[m.joints[size_t(m.dof_joint[size_t(dofs[i])])].q_index] = motion.q(Eigen::Index(k), Eigen::Index(i));
+            s.qd[dofs[i]] = motion.qd(Eigen::Index(k), Eigen::Index(i));
+            s.qdd[dofs[i]] = motion.qdd(Eigen::Index(k), Eigen::Index(i));
+        }
+        s.effort = Eigen::VectorXd::Zero(na), s.rate = Eigen::VectorXd::Zero(na);
+    }
+    fill_rows(m, chain, samples, rows);
+    // The model's own efforts stand for the measured ones (an actuator
+    // gain's column is the effort the actuator gives).
+    rows.effort = rows.model_effort;
+    rows.weight = effort_weights(rows);
+    return rows;
+}
+
+PredictedErrors predict_errors(const RegressionRows& motion, const std::vector<Candidate>& causes,
+                               const std::vector<double>& noise, double rows_per_second, double seconds,
+                               const sim::Model& m) {
+    PredictedErrors out;
+    // Each row weighed by its joint's noise: the columns are then in units of it.
+    RegressionRows rows = motion;
+    rows.weight.assign(rows.actuated.size(), 1.0);
+    for (size_t a = 0; a < rows.actuated.size() && a < noise.size(); ++a) rows.weight[a] = 1 / noise[a];
+    Eigen::Index np = 0;
+    for (const Candidate& c : causes) np += Eigen::Index(c.parameters.size());
+    Eigen::MatrixXd X(rows.samples * Eigen::Index(rows.actuated.size()), np);
+    Eigen::Index at = 0;
+    for (const Candidate& c : causes) {
+        const Eigen::MatrixXd cols = c.columns(rows);
+        X.middleCols(at, cols.cols()) = cols;
+        at += cols.cols();
+        for (const std::string& p : c.parameters) out.names.push_back(c.cause + "." + p + " on " + subject_text(m, c));
+    }
+    out.std_error = Eigen::VectorXd::Constant(np, INFINITY);
+    if (np == 0 || !X.allFinite()) return out;
+    // The rows stand for rows_per_second * seconds of identification rows:
+    // X^T X grows with their number.
+    const double scale = rows_per_second * seconds / double(rows.samples);
+    // Scaled to unit columns, so that the test of rank is about alike columns, not units.
+    const Eigen::VectorXd norms = X.colwise().norm().transpose();
+    if (!(norms.minCoeff() > 0)) return out;
+    const Eigen::MatrixXd Xn = X * norms.cwiseInverse().asDiagonal();
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Xn, Eigen::ComputeThinV);
+    const Eigen::VectorXd sv = svd.singularValues();
+    if (!(sv.minCoeff() > 1e-8 * sv.maxCoeff())) return out;
+    // diag((Xn^T Xn)^-1) from the SVD: sum_k V_jk^2 / s_k^2.
+    const Eigen::MatrixXd V = svd.matrixV();
+    for (Eigen::Index j = 0; j < np; ++j) {
+        double d = 0;
+        for (Eigen::Index k = 0; k < sv.size(); ++k) d += V(j, k) * V(j, k) / (sv[k] * sv[k]);
+        out.std_error[j] = std::sqrt(d / scale) / norms[j];
+    }
+    out.criterion = out.std_error.array().log10().mean();
+    return out;
+}
+
+std::vector<Candidate> excitation_causes(const sim::Model& m, const RegressionRows& rows, const ExcitationOptions& options) {
+    static const std::vector<std::string> kDefault = {"viscous_friction", "coulomb_friction", "armature", "effort_offset",
+                                                      "mass_error"};
+    const std::vector<std::string>& names = options.causes.empty() ? kDefault : options.causes;
+    for (const std::string& n : names) cause_kind(n);  // an unknown name is an error naming it
+    std::vector<Candidate> out;
+    for (const Candidate& c : catalogue(m, rows)) {
+        if (std::find(names.begin(), names.end(), c.cause) == names.end()) continue;
+        if (!options.subjects.empty() &&
+            std::find(options.subjects.begin(), options.subjects.end(), subject_text(m, c)) == options.subjects.end())
+            continue;
+        bool seen = false;
+        for (const Candidate& o : out) seen = seen || (o.cause == c.cause && o.joint == c.joint && o.body == c.body);
+        if (!seen) out.push_back(c);
+    }
+    if (out.empty())
+        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "the excitation design names no cause the model offers");
+    return out;
+}
+
+namespace {
+
+// Gaussian draws from mt19937_64's bits: the same design on every standard library.
+struct Draw {
+    std::mt19937_64 engine;
+    explicit Draw(uint64_t seed) : engine(seed) {}
+    double uniform() { return double(engine() >> 11) * (1.0 / 9007199254740992.0); }
+    double normal() {
+        double u = uniform();
+        while (u <= 0) u = uniform();
+        return std::sqrt(-2 * std::log(u)) * std::cos(2 * M_PI * uniform());
+    }
+};
+
+struct Problem {
+    const sim::Model& m;
+    const std::vector<int>& dofs;
+    const std::vector<ExcitationLimits>& limits;
+    const ExcitationOptions& o;
+    std::vector<double> q0;
+    std::vector<double> times;  // one period
+    int free_per_dof() const { return 2 * (o.harmonics - 1); }
+
+    // References of free coefficients x (per coordinate a_2..a_N, b_2..b_N) times s.
+    std::vector<FourierReference> references(const Eigen::VectorXd& x, double s) const {
+        std::vector<FourierReference> r(dofs.size());
+        const int N = o.harmonics, F = free_per_dof();
+        for (size_t i = 0; i < dofs.size(); ++i) {
+            r[i].q0 = q0[i];
+            r[i].a.assign(size_t(N), 0.0), r[i].b.assign(size_t(N), 0.0);
+            double sa = 0, sb = 0;
+            for (int l = 2; l <= N; ++l) {
+                const double a = s * x[Eigen::Index(i) * F + (l - 2)], b = s * x[Eigen::Index(i) * F + (N - 1) + (l - 2)];
+                r[i].a[size_t(l - 1)] = a, r[i].b[size_t(l - 1)] = b;
+                sa += l * a, sb += double(l * l) * b;
+            }
+            r[i].a[0] = -sa, r[i].b[0] = -sb;  // at rest at t = 0
+        }
+        return r;
+    }
+
+    SampledMotion motion(const std::vector<FourierReference>& r) const {
+        SampledMotion mo;
+        mo.t = times;
+        const Eigen::Index n = Eigen::Index(times.size()), d = Eigen::Index(dofs.size());
+        mo.q.resize(n, d), mo.qd.resize(n, d), mo.qdd.resize(n, d);
+        for (Eigen::Index k = 0; k < n; ++k)
+            for (Eigen::Index i = 0; i < d; ++i)
+                r[size_t(i)].at(times[size_t(k)], o.period, mo.q(k, i), mo.qd(k, i), mo.qdd(k, i));
+        return mo;
+    }
+
+    // The largest scale of x's motion that keeps the kinematic limits.
+    double kinematic_scale(const Eigen::VectorXd& x) const {
+        const SampledMotion unit = motion(references(x, 1));
+        double s = INFINITY;
+        const double keep = 1 - o.margin;
+        for (size_t i = 0; i < dofs.size(); ++i) {
+            const ExcitationLimits& L = limits[i];
+            const Eigen::Index c = Eigen::Index(i);
+            const double up = (unit.q.col(c).array() - q0[i]).maxCoeff(), down = (q0[i] - unit.q.col(c).array()).maxCoeff();
+            const double range = L.upper - L.lower, room = o.margin * (std::isfinite(range) ? range : 0);
+            if (up > 0 && std::isfinite(L.upper)) s = std::min(s, (L.upper - room - q0[i]) / up);
+            if (down > 0 && std::isfinite(L.lower)) s = std::min(s, (q0[i] - L.lower - room) / down);
+            const double v = unit.qd.col(c).cwiseAbs().maxCoeff(), a = unit.qdd.col(c).cwiseAbs().maxCoeff();
+            if (v > 0 && std::isfinite(L.velocity)) s = std::min(s, keep * L.velocity / v);
+            if (a > 0 && std::isfinite(L.acceleration)) s = std::min(s, keep * L.acceleration / a);
+        }
+        return s;
+    }
+
+    bool efforts_within(const RegressionRows& rows) const {
+        for (size_t i = 0; i < dofs.size(); ++i)
+            if (std::isfinite(limits[i].effort) &&
+                rows.model_effort.col(Eigen::Index(i)).cwiseAbs().maxCoeff() > (1 - o.margin) * limits[i].effort)
+                return false;
+        return true;
+    }
+
+    struct Evaluated {
+        double s = 0;
+        RegressionRows rows;
+        bool ok = false;
+    };
+
+    // x at the largest scale within every limit (efforts by bisection: they
+    // grow with the scale, if not strictly).
+    Evaluated at_limits(const Eigen::VectorXd& x) const {
+        Evaluated e;
+        double s = kinematic_scale(x);
+        if (!(s > 0) || !std::isfinite(s)) return e;
+        e.rows = motion_rows(m, dofs, motion(references(x, s)));
+        if (!efforts_within(e.rows)) {
+            double lo = 0, hi = s;
+            RegressionRows best;
+            for (int it = 0; it < 10; ++it) {
+                const double mid = 0.5 * (lo + hi);
+                RegressionRows r = motion_rows(m, dofs, motion(references(x, mid)));
+                if (efforts_within(r)) lo = mid, best = std::move(r);
+                else hi = mid;
+            }
+            if (!(lo > 0)) return e;
+            s = lo, e.rows = std::move(best);
+        }
+        e.s = s, e.ok = true;
+        return e;
+    }
+};
+
+}  // namespace
+
+ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& dofs,
+                                   const std::vector<ExcitationLimits>& limits, const ExcitationOptions& o) {
+    const Subject model = Subject::model(m.name);
+    auto refuse = [&](const std::string& why) { throw Error(MBX_ERROR_INVALID_INPUT, model, "excitation design: " + why); };
+    if (!(std::isfinite(o.period) && o.period > 0 && o.period <= 3600)) refuse("the period must be in (0, 3600] s");
+    if (o.harmonics < 2 || o.harmonics > 50) refuse("harmonics must be 2 to 50 (one cannot start and end at rest)");
+    if (o.periods < 1 || o.periods > 1000) refuse("periods must be 1 to 1000");
+    if (!(o.margin >= 0 && o.margin < 0.5)) refuse("the margin must be in [0, 0.5)");
+    if (o.samples_per_period < 8 * o.harmonics || o.samples_per_period > 100000)
+        refuse("samples per period must be at least 8 per harmonic and at most 100000");
+    if (o.evaluations < 1 || o.evaluations > 1000000) refuse("evaluations must be 1 to 1000000");
+    if (!(o.sample_rate > 0) || !(o.noise_share > 0)) refuse("the sample rate and the noise share must be positive");
+    if (!o.effort_noise.empty() && o.effort_noise.size() != dofs.size()) refuse("one effort noise per actuated coordinate is needed");
+    for (double v : o.effort_noise)
+        if (!(v > 0 && std::isfinite(v))) refuse("an effort noise must be positive");
+    if (dofs.empty() || dofs.size() != limits.size()) refuse("one limit per actuated coordinate is needed");
+    for (int dof : dofs)
+        if (dof < 0 || dof >= m.nv) refuse("a coordinate is not the model's");
+
+    Problem p{m, dofs, limits, o, {}, {}};
+    for (size_t i = 0; i < dofs.size(); ++i) {
+        const ExcitationLimits& L = limits[i];
+        const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(dofs[i])])];
+        const std::string who = "joint '" + j.name + "'";
+        for (double v : {L.velocity, L.acceleration, L.effort})
+            if (!(v > 0)) refuse(who + ": a speed, acceleration or effort limit must be positive");
+        if (!(L.upper > L.lower)) refuse(who + ": its position range is empty");
+        if (!std::isfinite(L.upper - L.lower) && !std::isfinite(L.velocity) && !std::isfinite(L.acceleration))
+            refuse(who + " has no position range, speed or acceleration limit: the motion would have no size");
+        // The motion swings about the middle of the range, or about the
+        // assembly pose where the range is open.
+        const double pose = m.q_reference[j.q_index];
+        p.q0.push_back(std::isfinite(L.upper - L.lower) ? 0.5 * (L.lower + L.upper)
+                                                         : std::clamp(pose, L.lower, L.upper));
+    }
+    const double fc = o.cutoff > 0 ? o.cutoff : o.sample_rate / 40;
+    // Identify's rows: about four per cutoff period.
+    const double rows_per_second = o.sample_rate / std::max(1.0, std::floor(o.sample_rate / (4 * fc)));
+    if (o.harmonics / o.period > fc / 2)
+        refuse("the highest harmonic (" + std::to_string(o.harmonics / o.period) + " Hz) is above half the records' filter cutoff");
+    for (int k = 0; k < o.samples_per_period; ++k) p.times.push_back(o.period * k / o.samples_per_period);
+
+    // The rows of a first motion only to find the candidates (their columns
+    // do not depend on it).
+    Draw draw(o.seed);
+    const Eigen::Index nx = Eigen::Index(dofs.size()) * p.free_per_dof();
+    auto random_x = [&] {
+        Eigen::VectorXd x(nx);
+        const int F = p.free_per_dof();
+        for (Eigen::Index k = 0; k < nx; ++k) x[k] = draw.normal() / double(2 + (k % F) % (o.harmonics - 1));
+        return x;
+    };
+    std::vector<Candidate> causes;
+    const double seconds = o.period * o.periods;
+    ExcitationDesign out;
+    Eigen::VectorXd best_x;
+    Problem::Evaluated best;
+    double best_f = INFINITY;
+    // The effort noise the records will carry: given, or a share of each
+    // joint's effort limit, or of the first motion's effort RMS where there
+    // is none. It must not follow the motion: a motion that kept a joint's
+    // effort small would otherwise be credited with a small noise.
+    std::vector<double> noise = o.effort_noise;
+    auto evaluate = [&](const Eigen::VectorXd& x) {
+        Problem::Evaluated e = p.at_limits(x);
+        ++out.evaluations;
+        if (!e.ok) return double(INFINITY);
+        if (causes.empty()) causes = excitation_causes(m, e.rows, o);
+        if (noise.empty())
+            for (size_t i = 0; i < dofs.size(); ++i) {
+                const double rms = std::sqrt(e.rows.model_effort.col(Eigen::Index(i)).squaredNorm() / double(e.rows.samples));
+                noise.push_back(o.noise_share * (std::isfinite(limits[i].effort) ? limits[i].effort : std::max(rms, 1e-12)));
+            }
+        const double f = predict_errors(e.rows, causes, noise, rows_per_second, seconds, m).criterion;
+        if (f < best_f) best_f = f, best_x = x, best = std::move(e);
+        return f;
+    };
+    // A random start among a few, then a (1+1) evolution strategy with the
+    // one-fifth success rule on the shape (the scale is the limits').
+    const int starts = std::max(1, std::min(20, o.evaluations / 5));
+    for (int k = 0; k < starts; ++k) evaluate(random_x());
+    if (!std::isfinite(best_f)) {
+        if (causes.empty()) refuse("no motion within the limits moves the joints (check the limits)");
+        refuse("the causes asked for are not identifiable together along any motion tried (two of them are one "
+               "parameter for this machine)");
+    }
+    double step = 0.3;
+    while (out.evaluations < o.evaluations) {
+        Eigen::VectorXd x = best_x;
+        const double scale = best_x.cwiseAbs().maxCoeff();
+        for (Eigen::Index k = 0; k < nx; ++k) x[k] += step * scale * draw.normal() / double(1 + (k % p.free_per_dof()) % (o.harmonics - 1));
+        const double before = best_f;
+        evaluate(x);
+        step *= best_f < before ? 1.5 : std::pow(1.5, -0.25);
+        step = std::clamp(step, 1e-4, 2.0);
+    }
+
+    // Between the grid's points the motion may reach a little further: the
+    // limits are checked again on a grid twenty times finer, and the scale
+    // taken down to what holds there.
+    {
+        Problem fine = p;
+        fine.times.clear();
+        const int n = 20 * o.samples_per_period;
+        for (int k = 0; k <= n; ++k) fine.times.push_back(o.period * k / n);
+        double s = std::min(best.s, fine.kinematic_scale(best_x));
+        for (int it = 0; it < 20 && !fine.efforts_within(motion_rows(m, dofs, fine.motion(fine.references(best_x, s)))); ++it)
+            s *= 0.99;
+        if (s < best.s) best.rows = motion_rows(m, dofs, p.motion(p.references(best_x, s))), best.s = s;
+    }
+    out.dofs = dofs, out.period = o.period, out.periods = o.periods;
+    out.references = p.references(best_x, best.s);
+    out.causes = causes;
+    out.predicted = predict_errors(best.rows, causes, noise, rows_per_second, seconds, m);
+    out.effort_noise = noise;
+    const SampledMotion mo = p.motion(out.references);
+    for (size_t i = 0; i < dofs.size(); ++i) {
+        const Eigen::Index c = Eigen::Index(i);
+        out.lowest.push_back(mo.q.col(c).minCoeff()), out.highest.push_back(mo.q.col(c).maxCoeff());
+        out.peak_velocity.push_back(mo.qd.col(c).cwiseAbs().maxCoeff());
+        out.peak_acceleration.push_back(mo.qdd.col(c).cwiseAbs().maxCoeff());
+        out.peak_effort.push_back(best.rows.model_effort.col(c).cwiseAbs().maxCoeff());
+    }
+    return out;
+}
+
+SampledMotion sample_design(const ExcitationDesign& design, double rate) {
+    SampledMotion mo;
+    const double seconds = design.period * design.periods;
+    const size_t n = size_t(std::llround(seconds * rate)) + 1;
+    const Eigen::Index d = Eigen::Index(design.dofs.size());
+    mo.q.resize(Eigen::Index(n), d), mo.qd.resize(Eigen::Index(n), d), mo.qdd.resize(Eigen::Index(n), d);
+    for (size_t k = 0; k < n; ++k) {
+        const double t = double(k) / rate;
+        mo.t.push_back(t);
+        for (Eigen::Index i = 0; i < d; ++i)
+            design.references[size_t(i)].at(t, design.period, mo.q(Eigen::Index(k), i), mo.qd(Eigen::Index(k), i),
+                                            mo.qdd(Eigen::Index(k), i));
+    }
+    return mo;
+}
+
+}  // namespace mbx::calibration

@@ -1,0 +1,195 @@
+// Excitation design: the designed references start and end at rest and keep
+// every limit at every sample; MuJoCo following them under the generator's
+// PD controller stays within the limits; and records along them name the
+// hidden causes with their values. Their standard errors are printed beside
+// those of records along random multi-sines of the same duration and limits
+// (the hidden-effect generator's own).
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "calibration/excitation/excitation.h"
+#include "calibration/identification/identify.h"
+#include "calibration/records/experiment.h"
+#include "calibration/records/records.h"
+#include "hidden_effects.h"
+#include "sim/build_model.h"
+#include "sim/dynamics.h"
+#include "temp_dir.h"
+#include "tests/common/near.h"
+
+namespace MBX_UNITY_ID {
+
+using namespace mbx;
+using namespace mbx::calibration;
+
+Identification identified(const sim::Model& m, const std::string& experiment) {
+    const std::vector<Record> records = load_records(load_experiment(experiment), m);
+    std::vector<const Record*> fit_records, validation_records;
+    for (const Record& r : records) (r.role == Role::Fit ? fit_records : validation_records).push_back(&r);
+    IdentifyOptions io;
+    const RegressionRows fit = regression_rows(m, fit_records, io);
+    const RegressionRows validation = regression_rows(m, validation_records, io, &fit.weight);
+    io.noise_level = noise_floor(m, validation, validation_records);
+    return identify(m, fit, validation, io);
+}
+
+TEST_CASE("excitation design: references at rest at both ends and within every limit, followed by MuJoCo, name the hidden causes") {
+    mbx_test::TempDir dir("mbx_excitation");
+    mbx_test::CaseSpec spec;
+    spec.name = "random", spec.mechanism = "two_link_arm", spec.seed = 2;
+    spec.fit_seconds = 20, spec.validation_seconds = 8;
+    spec.effects = {{"viscous_friction", "two_link_arm/shoulder", 0.4, 0.4}, {"armature", "two_link_arm/elbow", 0.02, 0.02}};
+    std::vector<mbx_test::TrueMotion> random_truth;
+    const mbx_test::GeneratedCase random = mbx_test::generate_case(spec, dir.file("random"), &random_truth);
+    auto t = mbx_test::open_mechanism(spec.mechanism);
+    const sim::Model m = sim::build_model(*t->mechanism);
+    const std::vector<int>& dofs = random_truth[0].actuated_dof;
+    REQUIRE(dofs.size() == 2);
+
+    // The random sines' own envelope is the design's limits: their peak
+    // position each way (the generator scales them to a symmetric peak),
+    // speed, acceleration and effort.
+    std::vector<ExcitationLimits> limits(dofs.size());
+    for (size_t i = 0; i < dofs.size(); ++i) {
+        const mbx_test::TrueMotion& tm = random_truth[0];
+        const double reach = tm.q.col(dofs[i]).cwiseAbs().maxCoeff();
+        limits[i].lower = -reach, limits[i].upper = reach;
+        limits[i].velocity = tm.v.col(dofs[i]).cwiseAbs().maxCoeff();
+        limits[i].acceleration = tm.a.col(dofs[i]).cwiseAbs().maxCoeff();
+        limits[i].effort = tm.commanded.col(Eigen::Index(i)).cwiseAbs().maxCoeff();
+        MESSAGE("joint " << i << " limits: +-" << reach << " rad, " << limits[i].velocity << " rad/s, "
+                         << limits[i].acceleration << " rad/s^2, " << limits[i].effort << " N m");
+    }
+    ExcitationOptions o;
+    for (size_t i = 0; i < dofs.size(); ++i)
+        o.effort_noise.push_back(spec.noise_fraction * std::sqrt(random_truth[0].commanded.col(Eigen::Index(i)).squaredNorm() /
+                                                                 double(random_truth[0].t.size())));
+    o.period = 5, o.harmonics = 15, o.periods = 4, o.margin = 0.05;
+    o.causes = {"viscous_friction", "coulomb_friction", "armature", "effort_offset"};
+    const auto t0 = std::chrono::steady_clock::now();
+    const ExcitationDesign design = design_excitation(m, dofs, limits, o);
+    MESSAGE("designed in " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s, "
+                           << design.evaluations << " evaluations, criterion " << design.predicted.criterion);
+
+    // Every sample of the written rate within the limits less the margin;
+    // at rest at both ends.
+    const SampledMotion mo = sample_design(design, 1000);
+    REQUIRE(mo.t.size() == 20001);
+    const RegressionRows along = motion_rows(m, dofs, mo);
+    for (size_t i = 0; i < dofs.size(); ++i) {
+        const Eigen::Index c = Eigen::Index(i);
+        const ExcitationLimits& L = limits[i];
+        const double keep = 1 - o.margin, room = o.margin * (L.upper - L.lower);
+        CHECK(mo.q.col(c).maxCoeff() <= L.upper - room + 1e-12);
+        CHECK(mo.q.col(c).minCoeff() >= L.lower + room - 1e-12);
+        CHECK(mo.qd.col(c).cwiseAbs().maxCoeff() <= keep * L.velocity * (1 + 1e-9));
+        CHECK(mo.qdd.col(c).cwiseAbs().maxCoeff() <= keep * L.acceleration * (1 + 1e-9));
+        // (efforts on the 1 kHz grid, between the design's own points)
+        CHECK(along.model_effort.col(c).cwiseAbs().maxCoeff() <= keep * L.effort * 1.02);
+        for (Eigen::Index k : {Eigen::Index(0), Eigen::Index(mo.t.size() - 1)}) {
+            CHECK(mo.q(k, c) == mbx_test::within(design.references[i].q0, 1e-9, "the start pose"));
+            CHECK(mo.qd(k, c) == mbx_test::within(0.0, 1e-9, "at rest"));
+            CHECK(mo.qdd(k, c) == mbx_test::within(0.0, 1e-9, "at rest"));
+        }
+    }
+
+    // MuJoCo follows the design under the same controller, with the same validation record.
+    mbx_test::CaseSpec designed = spec;
+    designed.name = "designed";
+    // The same sensors: the random record's effort noise, not a share of the new motion's effort.
+    for (size_t i = 0; i < dofs.size(); ++i)
+        designed.noise_sigma.push_back(spec.noise_fraction *
+                                       std::sqrt(random_truth[0].commanded.col(Eigen::Index(i)).squaredNorm() /
+                                                 double(random_truth[0].t.size())));
+    designed.fit_reference = [&design](size_t i, double time, double& r, double& rd) {
+        double rdd;
+        design.references[i].at(std::min(time, design.period * design.periods), design.period, r, rd, rdd);
+    };
+    std::vector<mbx_test::TrueMotion> designed_truth;
+    const mbx_test::GeneratedCase along_design = mbx_test::generate_case(designed, dir.file("designed"), &designed_truth);
+    for (size_t i = 0; i < dofs.size(); ++i) {
+        const mbx_test::TrueMotion& tm = designed_truth[0];
+        // The controller's tracking error is what the margin is for.
+        CHECK(tm.q.col(dofs[i]).cwiseAbs().maxCoeff() <= limits[i].upper);
+        CHECK(tm.v.col(dofs[i]).cwiseAbs().maxCoeff() <= limits[i].velocity);
+        CHECK(tm.commanded.col(Eigen::Index(i)).cwiseAbs().maxCoeff() <= limits[i].effort);
+    }
+
+    const Identification a = identified(m, random.experiment_path), b = identified(m, along_design.experiment_path);
+    for (const Identification* id : {&a, &b}) {
+        std::string text;
+        for (const SelectedCause& sc : id->causes)
+            for (const Estimate& e : sc.parameters)
+                text += " " + sc.candidate.cause + "." + e.name + "=" + std::to_string(e.value) + "+-" + std::to_string(e.std_error);
+        MESSAGE((id == &a ? "random:  " : "designed:") << text);
+    }
+    // Along the design the calibration names both hidden causes with their values.
+    REQUIRE(a.causes.size() == 2);
+    REQUIRE(b.causes.size() == 2);
+    for (const SelectedCause& sb : b.causes) {
+        const double truth = sb.candidate.cause == "armature" ? 0.02 : 0.4;
+        CHECK(sb.parameters[0].value == mbx_test::relative(truth, 0.02));
+        for (const SelectedCause& sa : a.causes)
+            if (sa.candidate.cause == sb.candidate.cause && sa.candidate.joint == sb.candidate.joint)
+                // Not yet the 2x the issue asks for: against random sines
+                // whose own envelope is the limits the design is no better
+                // (docs/calibration.md, "Excitation design").
+                MESSAGE(sb.candidate.cause << ": standard error " << sa.parameters[0].std_error << " along random sines, "
+                                           << sb.parameters[0].std_error << " along the design");
+    }
+}
+
+TEST_CASE("excitation design: what no design can meet is refused with the joint or option at fault") {
+    auto t = mbx_test::open_mechanism("two_link_arm");
+    const sim::Model m = sim::build_model(*t->mechanism);
+    const std::vector<int> dofs = {0, 1};
+    std::vector<ExcitationLimits> limits(2);
+    for (ExcitationLimits& L : limits) L.lower = -0.5, L.upper = 0.5, L.velocity = 3, L.acceleration = 30;
+    auto refused = [&](ExcitationOptions o, std::vector<ExcitationLimits> l, const char* words) {
+        o.evaluations = 20;
+        try {
+            design_excitation(m, dofs, l, o);
+            FAIL("designed: " << std::string(words));
+        } catch (const Error& e) {
+            CHECK_MESSAGE(std::string(e.what()).find(words) != std::string::npos, e.what());
+        }
+    };
+    ExcitationOptions o;
+    o.harmonics = 1;
+    refused(o, limits, "harmonics must be 2 to 50");
+    o = {};
+    o.period = 0.2;
+    refused(o, limits, "above half the records' filter cutoff");
+    std::vector<ExcitationLimits> open = limits;
+    open[1] = ExcitationLimits();
+    refused({}, open, "joint 'elbow' has no position range, speed or acceleration limit");
+    std::vector<ExcitationLimits> empty = limits;
+    empty[0].upper = empty[0].lower;
+    refused({}, empty, "joint 'shoulder': its position range is empty");
+    // A floor tilted in the arm's plane and the shoulder's encoder offset
+    // turn gravity alike (the arm's inertia does not depend on the
+    // shoulder's angle): one parameter for this arm, which no motion splits.
+    o = {};
+    o.causes = {"sensor_offset", "mounting_tilt"};
+    o.subjects = {"joint 'shoulder'", "the mounting"};
+    refused(o, limits, "not identifiable together");
+
+    // Within limits, a design's predicted errors are finite and the stated
+    // limits hold on the design's own grid.
+    o = {};
+    o.evaluations = 60;
+    const ExcitationDesign ok = design_excitation(m, dofs, limits, o);
+    REQUIRE(ok.references.size() == 2);
+    CHECK(std::isfinite(ok.predicted.criterion));
+    CHECK(ok.predicted.names.size() == size_t(ok.predicted.std_error.size()));
+    for (size_t i = 0; i < 2; ++i) {
+        CHECK(ok.highest[i] <= 0.5 - 0.1 * 1.0 + 1e-12);
+        CHECK(ok.lowest[i] >= -0.5 + 0.1 * 1.0 - 1e-12);
+        CHECK(ok.peak_velocity[i] <= 0.9 * 3 + 1e-9);
+        CHECK(ok.peak_acceleration[i] <= 0.9 * 30 + 1e-9);
+    }
+}
+
+}  // namespace MBX_UNITY_ID
