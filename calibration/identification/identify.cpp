@@ -89,9 +89,10 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
     };
     for (int round = 0; round < options.max_causes; ++round) {
         // Nothing stands above the records' noise: any cause named now would
-        // be named for fitting it. (Not the verdict's margin: a small effect
-        // beside the noise adds in quadrature, 1.24 % over a 1.2 % floor is
-        // a 0.3 % damping, and validation with its BIC margin still judges it.)
+        // be named for fitting it. (Not the verdict's margin: an effect
+        // beside the noise adds in quadrature, one of 75 % of the noise stays
+        // within 1.25 times the floor, and validation with its BIC margin
+        // still judges it.)
         if (std::isfinite(options.noise_level) && percent(current.sse_validation, meas_v) <= options.noise_level) break;
         std::vector<double> gain_of(candidates.size(), -INFINITY);
         int best = -1;

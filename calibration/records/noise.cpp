@@ -39,15 +39,12 @@ double white_noise_sigma(const std::vector<double>& x, double dt, double band_ed
     std::vector<double> squares(x.size());
     for (size_t k = 0; k < x.size(); ++k) squares[k] = (x[k] - smooth[k]) * (x[k] - smooth[k]);
     const double kept = filtered ? band_mean(dt, band_edge, [](double g) { return (1 - g) * (1 - g); }) : 1.0;
-    if (shape == NoiseShape::Uniform) {
-        double sum = 0;
-        for (double v : squares) sum += v;
-        return std::sqrt(sum / double(squares.size()) / kept);
-    }
     const auto middle = squares.begin() + std::ptrdiff_t(squares.size() / 2);
     std::nth_element(squares.begin(), middle, squares.end());
-    constexpr double kChiSquare1Median = 0.454936423119572;  // the median of a chi-square of one degree
-    return std::sqrt(*middle / kChiSquare1Median / kept);
+    // The median square over the variance: a chi-square of one degree's
+    // median for a Gaussian; (1/4)^2 / (1/12) for a uniform noise.
+    const double median_over_variance = shape == NoiseShape::Uniform ? 0.75 : 0.454936423119572;
+    return std::sqrt(*middle / median_over_variance / kept);
 }
 
 double low_pass_noise_share(double dt, double cutoff) {

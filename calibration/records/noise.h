@@ -19,10 +19,10 @@ namespace mbx::calibration {
 // current filter) is taken at its level above band_edge. 0 for fewer than
 // 8 samples.
 //
-// A measured position is smooth (no steps) but its noise is an encoder's
-// quantisation, uniform rather than Gaussian, whose median square is 0.61
-// of a Gaussian's of the same variance (1.28 times the sigma): positions
-// take the mean square instead (NoiseShape::Uniform).
+// A measured position's noise is an encoder's quantisation, uniform rather
+// than Gaussian: its median square is 0.75 of its variance where a
+// Gaussian's is 0.4549 (taken as Gaussian, it reads 1.28 times too large).
+// Positions are read as NoiseShape::Uniform.
 enum class NoiseShape { Gaussian, Uniform };
 double white_noise_sigma(const std::vector<double>& x, double dt, double band_edge,
                          NoiseShape shape = NoiseShape::Gaussian);
