@@ -117,7 +117,7 @@ void check_result(const sim::Model& model, const CalibrationResult& r) {
                     std::to_string(e.joint));
     }
     for (const SelectedCause& c : r.identification.causes) {
-        const bool body = c.candidate.body >= 0, mounting = c.candidate.kind().id == CauseId::MountingTilt;
+        const bool body = c.candidate.body >= 0, mounting = c.candidate.cause == cause_name(CauseId::MountingTilt);
         if (mounting ? false : body ? size_t(c.candidate.body) >= model.bodies.size() : !joint_ok(c.candidate.joint))
             bad("cause " + c.candidate.cause + " has no subject in the model");
     }

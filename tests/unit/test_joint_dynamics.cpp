@@ -185,7 +185,7 @@ TEST_CASE("joint dynamics file: every problem is an error naming file, line and 
     // The root names <joint> among the elements it knows.
     const Loaded unknown = load(description("<joints/>\n"));
     REQUIRE(unknown.errors.size() == 1);
-    CHECK(unknown.errors[0].text().find("unknown element <joints> (library, drive, joint, body)") != std::string::npos);
+    CHECK(unknown.errors[0].text().find("unknown element <joints> (library, drive, joint, body, mounting, collision, contact)") != std::string::npos);
 }
 
 TEST_CASE("joint dynamics: resolution puts each entry's SI values on its Mechanism joint") {
