@@ -165,6 +165,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     const Identification linear = out.identification;
     out.identification = transmission_stage(base_model, fit_records, validation_records, linear);
     if (!same_causes(linear, out.identification)) recompute_errors(out.identification, fit, validation);
+    locate_residual(rigid, out.identification, validation);
     const Identification& id = out.identification;
 
     // Replays before any cause and after each: the simulated gain of every step.

@@ -409,12 +409,13 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
         step = std::clamp(step, 1e-4, 2.0);
     }
 
-    // Scaled to the limits exactly, checked on a grid twenty times finer
-    // than the search's (the motion may reach a little further between its points).
+    // Scaled to the limits exactly, on the records' own samples (or a grid
+    // twenty times finer than the search's, if that is finer): the motion
+    // may reach a little further between the search's points.
     {
         Problem fine = p;
         fine.times.clear();
-        const int n = 20 * o.samples_per_period;
+        const int n = int(std::min(2e6, std::max(20.0 * o.samples_per_period, std::ceil(o.sample_rate * o.period))));
         for (int k = 0; k <= n; ++k) fine.times.push_back(o.period * k / n);
         Problem::Evaluated e = fine.at_limits(best_x);
         if (!e.ok) refuse("the designed motion cannot be scaled within the limits");

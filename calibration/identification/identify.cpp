@@ -442,6 +442,68 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
     return out;
 }
 
+void locate_residual(const sim::Model& m, Identification& id, const RegressionRows& validation) {
+    id.residual_concentration.clear();
+    if (explained_to_noise(id.final_validation_error, id.noise_level)) return;
+    Eigen::VectorXd left = validation.y();
+    for (const SelectedCause& c : id.causes) {
+        const Eigen::MatrixXd cols = c.candidate.columns(validation);
+        for (Eigen::Index p = 0; p < cols.cols() && p < Eigen::Index(c.parameters.size()); ++p)
+            left -= c.parameters[size_t(p)].value * cols.col(p);
+    }
+    const Eigen::Index A = Eigen::Index(validation.actuated.size()), S = validation.samples;
+    const double total = left.squaredNorm();
+    if (!(total > 0) || S < 20) return;
+    for (Eigen::Index a = 0; a < A; ++a) {
+        const int dof = validation.actuated[size_t(a)];
+        const sim::JointT<double>& joint = m.joints[size_t(m.dof_joint[size_t(dof)])];
+        double own = 0;
+        for (Eigen::Index s = 0; s < S; ++s) own += left[s * A + a] * left[s * A + a];
+        if (own < 0.25 * total) continue;
+        const double speed = std::sqrt(validation.qd.col(dof).squaredNorm() / double(S));
+        const double accel = std::sqrt(validation.qdd.col(dof).squaredNorm() / double(S));
+        const Eigen::VectorXd q = validation.q.col(joint.q_index);
+        const double lo = q.minCoeff(), hi = q.maxCoeff();
+        struct Region {
+            std::string words;
+            double energy = 0;
+            int rows = 0;
+        };
+        std::vector<Region> regions = {{"at velocity reversals (speeds below a tenth of their RMS)"},
+                                       {"at high accelerations (above 1.5 times their RMS)"}};
+        const int bins = hi > lo ? 5 : 0;
+        const bool linear = joint.kind == sim::JointKind::Prismatic;
+        for (int b = 0; b < bins; ++b) {
+            std::ostringstream w;
+            w.precision(3);
+            const double from = lo + (hi - lo) * b / bins, to = lo + (hi - lo) * (b + 1) / bins;
+            w << "between positions " << (linear ? from : from * 180 / M_PI) << " and " << (linear ? to : to * 180 / M_PI)
+              << (linear ? " m" : " deg");
+            regions.push_back({w.str()});
+        }
+        for (Eigen::Index s = 0; s < S; ++s) {
+            const double e = left[s * A + a] * left[s * A + a];
+            auto add = [&](Region& r) { r.energy += e, ++r.rows; };
+            if (std::abs(validation.qd(s, dof)) < 0.1 * speed) add(regions[0]);
+            if (std::abs(validation.qdd(s, dof)) > 1.5 * accel) add(regions[1]);
+            if (bins > 0) add(regions[size_t(2 + std::min(bins - 1, int(bins * (q[s] - lo) / (hi - lo))))]);
+        }
+        const Region* worst = nullptr;
+        double worst_ratio = 0;
+        for (const Region& r : regions) {
+            if (r.rows == 0) continue;
+            const double energy_share = r.energy / own, row_share = double(r.rows) / double(S);
+            const double ratio = energy_share / row_share;
+            if (energy_share >= 0.2 && ratio >= 2 && ratio > worst_ratio) worst = &r, worst_ratio = ratio;
+        }
+        if (!worst) continue;
+        std::ostringstream s;
+        s << "joint '" << joint.name << "': " << std::lround(100 * worst->energy / own) << " % of its residual lies "
+          << worst->words << ", " << std::lround(100 * double(worst->rows) / double(S)) << " % of its samples";
+        id.residual_concentration.push_back(s.str());
+    }
+}
+
 void recompute_errors(Identification& id, const RegressionRows& fit, const RegressionRows& validation) {
     Eigen::VectorXd left_fit = fit.y(), left_validation = validation.y();
     const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();

@@ -39,6 +39,10 @@ struct Identification {
     std::vector<SelectedCause> causes;
     std::vector<std::string> warnings;
     std::vector<std::string> considered;  // candidates tried in the first round, with their gains
+    // Where the validation residual left above the noise concentrates
+    // (velocity reversals, high accelerations, a part of a joint's range),
+    // in words with its share; empty when it is spread or at the noise.
+    std::vector<std::string> residual_concentration;
 };
 
 Identification identify(const sim::Model& m, const RegressionRows& fit, const RegressionRows& validation,
@@ -51,5 +55,13 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
 // stage drops causes and refits the rest), whose figures would otherwise be
 // those of a cause set the model no longer has.
 void recompute_errors(Identification& id, const RegressionRows& fit, const RegressionRows& validation);
+
+// Fills id.residual_concentration from the validation residual of id's
+// causes at their values: per actuated joint holding at least a quarter of
+// the residual, the region of its rows (speeds below a tenth of its RMS,
+// accelerations above 1.5 times theirs, a fifth of its position range)
+// whose share of the joint's residual is largest against its share of the
+// rows, named when it holds at least a fifth of it at twice the rows' share.
+void locate_residual(const sim::Model& m, Identification& id, const RegressionRows& validation);
 
 }  // namespace mbx::calibration

@@ -440,6 +440,8 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
     const char* driven = r.mode == DriveMode::ClosedLoop ? "in closed loop (the controller follows the recorded reference)"
                          : r.mode == DriveMode::Effort ? "by the recorded effort"
                                                        : "free from the measured initial state";
+    std::string concentration;
+    for (const std::string& c : id.residual_concentration) concentration += " It concentrates on " + esc(c) + ".";
     h += "<p>Experiment " + esc(shown_path(experiment.path)) + ", the model driven " + driven + ". Calibrated in " +
          num(r.wall_time, 3) + " s." +
          (std::isfinite(id.noise_level)
@@ -449,7 +451,7 @@ std::string calibration_html(const sim::Model& model, const Experiment& experime
                          ? std::string("the calibrated model explains the rest to the noise.")
                          : num(std::sqrt(std::max(0.0, id.final_validation_error * id.final_validation_error -
                                                            id.noise_level * id.noise_level))) +
-                               " % of it is left above the noise.")
+                               " % of it is left above the noise." + concentration)
               : std::string()) +
          "</p>\n<table><tr><th>record</th><th>role</th></tr>\n";
     for (size_t i = 0; i < r.record_paths.size(); ++i)

@@ -192,6 +192,9 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
         w.member("noise_level_note", "not measured: no record holds an effort");
     else
         w.member("explained_to_noise", explained_to_noise(id.final_validation_error, id.noise_level));
+    w.key("residual_concentration").begin_array();
+    for (const std::string& s : id.residual_concentration) w.value(s);
+    w.end_array();
 
     w.key("description").begin_object();
     w.key("joints").begin_array();

@@ -75,15 +75,9 @@ TEST_CASE("ambiguity: an offset tied with asymmetric friction is carried as one 
     // The same rows with the one-parameter rule set above that agreement: a
     // pair merely alike, which used to be refused outright (neither named).
     const sim::Model m = sim::build_model(*t->mechanism);
-    const std::vector<Record> records = load_records(load_experiment(c.experiment_path), m);
-    std::vector<const Record*> fit_records, validation_records;
-    for (const Record& rec : records) (rec.role == Role::Fit ? fit_records : validation_records).push_back(&rec);
     IdentifyOptions io;
     io.same_column_correlation = 0.99999;
-    const RegressionRows fit = regression_rows(m, fit_records, io);
-    const RegressionRows validation = regression_rows(m, validation_records, io, &fit.weight);
-    io.noise_level = noise_floor(m, validation, validation_records);
-    const Identification id = identify(m, fit, validation, io);
+    const Identification id = mbx_test::identify_case(m, c.experiment_path, io);
     check_carried(id, "alike");
     bool merely_alike = false;
     for (const std::string& w : id.warnings) merely_alike = merely_alike || w.find("another load or motion would tell which") != std::string::npos;

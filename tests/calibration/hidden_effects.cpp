@@ -45,6 +45,8 @@
 #include "export/common/names.h"
 #include "export/export_files.h"
 #include "export/mjcf/mjcf_layout.h"
+#include "calibration/records/experiment.h"
+#include "calibration/records/records.h"
 #include "host_adapters/urdf/urdf_adapter.h"
 #include "sim/build_model.h"
 #include "sim/simulation.h"
@@ -253,10 +255,13 @@ struct JointEffects {
     double coulomb = 0, asymmetry = 0;   // asymmetric friction
     double stribeck = 0, stribeck_v = 1; // Stribeck
     double vs = 1;                       // smooth sign's velocity
+    double spot = 0, spot_from = 0;      // Coulomb friction beyond a position (a tight spot)
     double force(double q, double v) const {
         double f = -stiffness * q;
         const double s = std::tanh(v / vs);
         f -= coulomb * s + asymmetry * std::fabs(s);
+        // (smoothed over a hundredth of a radian or metre at its edge)
+        if (spot != 0) f -= spot * s * 0.5 * (1 + std::tanh((q - spot_from) / 0.01));
         if (stribeck != 0) f -= stribeck * s * std::exp(-(v / stribeck_v) * (v / stribeck_v));
         return f;
     }
@@ -651,6 +656,12 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
                             {"coulomb_positive", value + x.asymmetry},
                             {"coulomb_negative", value - x.asymmetry},
                             {"smoothing_velocity", x.vs}};
+        } else if (e.cause == "tight_spot") {
+            // Outside the catalogue: Coulomb friction only beyond 40 % of
+            // the reference's reach on the positive side.
+            x.spot = value, x.spot_from = 0.4 * info.amplitude[i];
+            smooth_velocity(value);
+            h.parameters = {{"coulomb", value}, {"from", x.spot_from}};
         } else if (e.cause == "stribeck_friction") {
             x.stribeck = value;
             x.stribeck_v = 0.2 * speed[i];
@@ -932,6 +943,18 @@ std::vector<GeneratedCase> generate_suite(const std::vector<CaseSpec>& specs, co
     json += "]\n";
     write_text(fs::path(out_dir) / "truth.json", json);
     return cases;
+}
+
+mbx::calibration::Identification identify_case(const mbx::sim::Model& m, const std::string& experiment_path,
+                                               mbx::calibration::IdentifyOptions options) {
+    using namespace mbx::calibration;
+    const std::vector<Record> records = load_records(load_experiment(experiment_path), m);
+    std::vector<const Record*> fit_records, validation_records;
+    for (const Record& r : records) (r.role == Role::Fit ? fit_records : validation_records).push_back(&r);
+    const RegressionRows fit = regression_rows(m, fit_records, options);
+    const RegressionRows validation = regression_rows(m, validation_records, options, &fit.weight);
+    options.noise_level = noise_floor(m, validation, validation_records);
+    return identify(m, fit, validation, options);
 }
 
 }  // namespace mbx_test

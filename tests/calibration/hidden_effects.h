@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "calibration/identification/identify.h"
 #include "tests/export/export_fixture.h"
 
 namespace mbx_test {
@@ -123,6 +124,12 @@ std::vector<CaseSpec> hidden_effect_suite(unsigned seed);
 
 // Every case into out_dir/<name>/ and all truths into out_dir/truth.json.
 std::vector<GeneratedCase> generate_suite(const std::vector<CaseSpec>& specs, const std::string& out_dir);
+
+// The linear identification of a generated case's records on model `m`
+// with `options`, the selection stopped at the validation records' noise
+// floor as calibrate() stops it.
+mbx::calibration::Identification identify_case(const mbx::sim::Model& m, const std::string& experiment_path,
+                                               mbx::calibration::IdentifyOptions options = {});
 
 // The causes the suite draws (backlash on the two-link arm only: the slide's
 // dead band is not named yet, docs/calibration.md), with com_shift and

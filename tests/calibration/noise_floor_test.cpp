@@ -9,6 +9,7 @@
 #include <random>
 
 #include "calibration/calibrate.h"
+#include "calibration/outputs/calibration_files.h"
 #include "calibration/records/experiment.h"
 #include "calibration/records/filters.h"
 #include "calibration/records/noise.h"
@@ -85,6 +86,38 @@ TEST_CASE("noise floor: a clean case calibrated is explained to the noise, with 
     CHECK(id.noise_level > 0);
     CHECK(id.final_validation_error <= 1.25 * id.noise_level);
     CHECK(id.final_validation_error >= 0.75 * id.noise_level);
+}
+
+TEST_CASE("noise floor: friction at a tight spot, outside the catalogue, is left above the noise and located in its range") {
+    mbx_test::TempDir dir("mbx_noise_spot");
+    mbx_test::CaseSpec spec;
+    spec.name = "spot", spec.mechanism = "two_link_arm", spec.seed = 3, spec.noise_fraction = 0.01;
+    // Coulomb friction of 0.12 N m on the elbow beyond 0.4 rad (its reference reaches 1 rad).
+    spec.effects = {{"tight_spot", "two_link_arm/elbow", 0.12, 0.12}};
+    const mbx_test::GeneratedCase c = mbx_test::generate_case(spec, dir.file(spec.name));
+    auto t = mbx_test::open_mechanism(spec.mechanism);
+    const CalibrationResult r = calibrate(*t->mechanism, {}, load_experiment(c.experiment_path));
+    const Identification& id = r.identification;
+    std::string text;
+    for (const SelectedCause& sc : id.causes) text += " " + sc.candidate.cause + " on joint " + std::to_string(sc.candidate.joint);
+    for (const std::string& s : id.residual_concentration) text += "\n  " + s;
+    MESSAGE("tight spot: validation " << id.baseline_validation_error << " -> " << id.final_validation_error << " %, floor "
+                                      << id.noise_level << " %; named:" << text);
+    REQUIRE(std::isfinite(id.noise_level));
+    CHECK_FALSE(explained_to_noise(id.final_validation_error, id.noise_level));
+    // No cause of the catalogue is named for it.
+    CHECK(id.causes.empty());
+    // The residual is placed on the elbow, in the upper part of its range.
+    bool located = false;
+    for (const std::string& s : id.residual_concentration)
+        if (s.find("joint 'elbow'") != std::string::npos && s.find("between positions") != std::string::npos) {
+            const double from = std::stod(s.substr(s.find("between positions") + 18));
+            located = located || from >= 0.3 * 180 / M_PI;
+        }
+    CHECK(located);
+    // The JSON carries the same statement.
+    CHECK(calibration_json(sim::build_model(*t->mechanism), load_experiment(c.experiment_path), r).find("residual_concentration") !=
+          std::string::npos);
 }
 
 }  // namespace MBX_UNITY_ID
