@@ -136,22 +136,32 @@ struct Problem {
     std::shared_ptr<ClosedChain> chain;
     std::vector<Eigen::Index> actuated_at;  // each dof's place among the chain's independent coordinates
     std::shared_ptr<sim::Data> data;
-    int free_per_dof() const { return 2 * (o.harmonics - 1); }
+    int free_per_dof() const { return 2 * o.harmonics; }
 
-    // References of free coefficients x (per coordinate a_2..a_N, b_2..b_N) times s.
+    // References of coefficients x (per coordinate a_1..a_N, b_1..b_N) times
+    // s, projected onto the rest conditions (sum l a_l = 0, sum l^2 b_l = 0)
+    // along their normals: the least change to the spectrum. (Solving the
+    // conditions for the first harmonic instead put most of a random
+    // shape's size into the slow fundamental, which then used up the
+    // position range.)
     std::vector<FourierReference> references(const Eigen::VectorXd& x, double s) const {
         std::vector<FourierReference> r(dofs.size());
         const int N = o.harmonics, F = free_per_dof();
+        double l2 = 0, l4 = 0;
+        for (int l = 1; l <= N; ++l) l2 += double(l) * l, l4 += double(l) * l * l * l;
         for (size_t i = 0; i < dofs.size(); ++i) {
             r[i].q0 = q0[i];
             r[i].a.assign(size_t(N), 0.0), r[i].b.assign(size_t(N), 0.0);
             double sa = 0, sb = 0;
-            for (int l = 2; l <= N; ++l) {
-                const double a = s * x[Eigen::Index(i) * F + (l - 2)], b = s * x[Eigen::Index(i) * F + (N - 1) + (l - 2)];
+            for (int l = 1; l <= N; ++l) {
+                const double a = s * x[Eigen::Index(i) * F + (l - 1)], b = s * x[Eigen::Index(i) * F + N + (l - 1)];
                 r[i].a[size_t(l - 1)] = a, r[i].b[size_t(l - 1)] = b;
-                sa += l * a, sb += double(l * l) * b;
+                sa += l * a, sb += double(l) * l * b;
             }
-            r[i].a[0] = -sa, r[i].b[0] = -sb;  // at rest at t = 0
+            for (int l = 1; l <= N; ++l) {
+                r[i].a[size_t(l - 1)] -= sa / l2 * l;
+                r[i].b[size_t(l - 1)] -= sb / l4 * l * l;
+            }
         }
         return r;
     }
@@ -325,7 +335,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     auto random_x = [&] {
         Eigen::VectorXd x(nx);
         const int F = p.free_per_dof();
-        for (Eigen::Index k = 0; k < nx; ++k) x[k] = draw.normal() / double(2 + (k % F) % (o.harmonics - 1));
+        for (Eigen::Index k = 0; k < nx; ++k) x[k] = draw.normal() / double(1 + (k % F) % o.harmonics);
         return x;
     };
     std::vector<Candidate> causes;
@@ -375,7 +385,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
         Eigen::VectorXd x = best_x;
         const double scale = best_x.cwiseAbs().maxCoeff();
         for (Eigen::Index k = 0; k < nx; ++k)
-            x[k] += step * scale * draw.normal() / double(1 + (k % p.free_per_dof()) % (o.harmonics - 1));
+            x[k] += step * scale * draw.normal() / double(1 + (k % p.free_per_dof()) % o.harmonics);
         step *= evaluate(x) ? 1.5 : std::pow(1.5, -0.25);
         step = std::clamp(step, 1e-4, 2.0);
     }

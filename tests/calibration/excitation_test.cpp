@@ -68,6 +68,7 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
         o.effort_noise.push_back(spec.noise_fraction * std::sqrt(random_truth[0].commanded.col(Eigen::Index(i)).squaredNorm() /
                                                                  double(random_truth[0].t.size())));
     o.period = 5, o.harmonics = 15, o.periods = 4, o.margin = 0.05;
+    if (const char* e = std::getenv("MBX_EXCITE_EVALS")) o.evaluations = std::atoi(e);  // (a look with a longer search)
     o.causes = {"viscous_friction", "coulomb_friction", "armature", "effort_offset"};
     const auto t0 = std::chrono::steady_clock::now();
     const ExcitationDesign design = design_excitation(m, dofs, limits, o);
@@ -134,12 +135,15 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
         const double truth = sb.candidate.cause == "armature" ? 0.02 : 0.4;
         CHECK(sb.parameters[0].value == mbx_test::relative(truth, 0.02));
         for (const SelectedCause& sa : a.causes)
-            if (sa.candidate.cause == sb.candidate.cause && sa.candidate.joint == sb.candidate.joint)
-                // Not yet the 2x the issue asks for: against random sines
-                // whose own envelope is the limits the design is no better
-                // (docs/calibration.md, "Excitation design").
+            if (sa.candidate.cause == sb.candidate.cause && sa.candidate.joint == sb.candidate.joint) {
+                const double ratio = sa.parameters[0].std_error / sb.parameters[0].std_error;
                 MESSAGE(sb.candidate.cause << ": standard error " << sa.parameters[0].std_error << " along random sines, "
-                                           << sb.parameters[0].std_error << " along the design");
+                                           << sb.parameters[0].std_error << " along the design (" << ratio << "x)");
+                // Smaller along the design (1.6x measured under the rated
+                // limits; the 2x the design is meant to reach is not there
+                // yet, docs/calibration.md "Excitation design").
+                if (!own_peaks) CHECK(ratio >= 1.3);
+            }
     }
 }
 
