@@ -24,10 +24,16 @@ void FourierReference::at(double t, double period, double& q, double& qd, double
     }
 }
 
-RegressionRows motion_rows(const sim::Model& m, const std::vector<int>& dofs, const SampledMotion& motion) {
+namespace {
+
+ClosedChain chain_of(const sim::Model& m, const std::vector<int>& dofs) {
     std::vector<char> measured(size_t(m.nv), 0);
     for (int dof : dofs) measured[size_t(dof)] = 1;
-    ClosedChain chain = closed_chain(m, measured);
+    return closed_chain(m, measured);
+}
+
+// motion_rows with the chain of `dofs` already made (the search makes it once).
+RegressionRows rows_along(const sim::Model& m, ClosedChain& chain, const std::vector<int>& dofs, const SampledMotion& motion) {
     RegressionRows rows;
     rows.actuated = dofs;
     const Eigen::Index na = Eigen::Index(dofs.size());
@@ -49,6 +55,13 @@ RegressionRows motion_rows(const sim::Model& m, const std::vector<int>& dofs, co
     rows.effort = rows.model_effort;
     rows.weight = effort_weights(rows);
     return rows;
+}
+
+}  // namespace
+
+RegressionRows motion_rows(const sim::Model& m, const std::vector<int>& dofs, const SampledMotion& motion) {
+    ClosedChain chain = chain_of(m, dofs);
+    return rows_along(m, chain, dofs, motion);
 }
 
 PredictedErrors predict_errors(const RegressionRows& motion, const std::vector<Candidate>& causes,
@@ -270,7 +283,7 @@ struct Problem {
             }
         }
         if (!(s > 0)) return e;
-        e.rows = motion_rows(m, dofs, motion(references(x, s)));
+        e.rows = rows_along(m, *chain, dofs, motion(references(x, s)));
         e.s = s, e.ok = true;
         return e;
     }
@@ -299,9 +312,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
 
     Problem p{m, dofs, limits, o, {}, {}, nullptr, {}, std::make_shared<sim::Data>(m)};
     {
-        std::vector<char> measured(size_t(m.nv), 0);
-        for (int dof : dofs) measured[size_t(dof)] = 1;
-        p.chain = std::make_shared<ClosedChain>(closed_chain(m, measured));
+        p.chain = std::make_shared<ClosedChain>(chain_of(m, dofs));
         for (int dof : dofs)
             p.actuated_at.push_back(Eigen::Index(std::find(p.chain->independent.begin(), p.chain->independent.end(), dof) -
                                                  p.chain->independent.begin()));
@@ -401,7 +412,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
         Problem::Evaluated e = fine.at_limits(best_x);
         if (!e.ok) refuse("the designed motion cannot be scaled within the limits");
         best.s = e.s * (1 - 1e-9);  // (a motion that touches a limit stays on its side when rounded)
-        best.rows = motion_rows(m, dofs, p.motion(p.references(best_x, e.s)));
+        best.rows = rows_along(m, *p.chain, dofs, p.motion(p.references(best_x, e.s)));
     }
     out.dofs = dofs, out.period = o.period, out.periods = o.periods;
     out.references = p.references(best_x, best.s);

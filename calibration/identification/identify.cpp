@@ -51,6 +51,13 @@ double bic(double sse, Eigen::Index n, Eigen::Index k) {
     return double(n) * std::log(std::max(sse, 1e-300) / double(n)) + double(k) * std::log(double(n));
 }
 
+// Takes what cause `c` explains at its values out of residual `left` of `rows`.
+void remove_cause(const SelectedCause& c, const RegressionRows& rows, Eigen::VectorXd& left) {
+    const Eigen::MatrixXd cols = c.candidate.columns(rows);
+    for (Eigen::Index p = 0; p < cols.cols() && p < Eigen::Index(c.parameters.size()); ++p)
+        left -= c.parameters[size_t(p)].value * cols.col(p);
+}
+
 double correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     const double na = a.norm(), nb = b.norm();
     return na > 0 && nb > 0 ? a.dot(b) / (na * nb) : 0;
@@ -446,11 +453,7 @@ void locate_residual(const sim::Model& m, Identification& id, const RegressionRo
     id.residual_concentration.clear();
     if (explained_to_noise(id.final_validation_error, id.noise_level)) return;
     Eigen::VectorXd left = validation.y();
-    for (const SelectedCause& c : id.causes) {
-        const Eigen::MatrixXd cols = c.candidate.columns(validation);
-        for (Eigen::Index p = 0; p < cols.cols() && p < Eigen::Index(c.parameters.size()); ++p)
-            left -= c.parameters[size_t(p)].value * cols.col(p);
-    }
+    for (const SelectedCause& c : id.causes) remove_cause(c, validation, left);
     const Eigen::Index A = Eigen::Index(validation.actuated.size()), S = validation.samples;
     const double total = left.squaredNorm();
     if (!(total > 0) || S < 20) return;
@@ -509,11 +512,8 @@ void recompute_errors(Identification& id, const RegressionRows& fit, const Regre
     const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();
     double before = id.baseline_validation_error;
     for (SelectedCause& c : id.causes) {
-        for (auto [rows, left] : {std::pair{&fit, &left_fit}, std::pair{&validation, &left_validation}}) {
-            const Eigen::MatrixXd cols = c.candidate.columns(*rows);
-            for (Eigen::Index p = 0; p < cols.cols() && p < Eigen::Index(c.parameters.size()); ++p)
-                *left -= c.parameters[size_t(p)].value * cols.col(p);
-        }
+        remove_cause(c, fit, left_fit);
+        remove_cause(c, validation, left_validation);
         c.fit_error = percent(left_fit.squaredNorm(), meas);
         c.validation_error = percent(left_validation.squaredNorm(), meas_v);
         c.validation_gain = before - c.validation_error;
