@@ -11,6 +11,7 @@
 #include "assembly_builder.h"
 #include "core/progress.h"
 #include "core/mechatronics/drive_file.h"
+#include "core/mechatronics/mounting.h"
 #include "core/translator/translate.h"
 #include "tests/common/near.h"
 
@@ -186,6 +187,38 @@ TEST_CASE("joint dynamics file: every problem is an error naming file, line and 
     const Loaded unknown = load(description("<joints/>\n"));
     REQUIRE(unknown.errors.size() == 1);
     CHECK(unknown.errors[0].text().find("unknown element <joints> (library, drive, joint, body, mounting, collision, contact)") != std::string::npos);
+}
+
+TEST_CASE("description file: <mounting> reads its tilt in its unit, and refuses what is no tilt with the line") {
+    const Loaded deg = load(description("<mounting tilt_x=\"2\" tilt_y=\"-1\" unit=\"deg\"/>\n"));
+    REQUIRE(deg.errors.empty());
+    CHECK(deg.spec.mounting.given);
+    CHECK(deg.spec.mounting.tilt_x == mbx_test::relative(2 * M_PI / 180, 1e-15));
+    CHECK(deg.spec.mounting.tilt_y == mbx_test::relative(-M_PI / 180, 1e-15));
+    // Gravity turned 2 degrees about x, then -1 about y: its components are the rotations' (analytic).
+    const Vec3 g = tilted_gravity(Vec3(0, 0, -9.81), deg.spec.mounting);
+    const double a = 2 * M_PI / 180, b = -M_PI / 180;
+    CHECK(g.x() == mbx_test::relative(-9.81 * std::sin(b), 1e-12));
+    CHECK(g.y() == mbx_test::relative(9.81 * std::cos(b) * std::sin(a), 1e-12));
+    CHECK(g.z() == mbx_test::relative(-9.81 * std::cos(b) * std::cos(a), 1e-12));
+    CHECK(load(description("<mounting tilt_x=\"0.01\"/>\n")).spec.mounting.tilt_x == 0.01);  // rad by default
+    struct Bad {
+        const char* text;
+        const char* words;
+    };
+    for (const Bad& bad : {Bad{"<mounting tilt_x=\"abc\"/>", "tilt_x = 'abc' is not a number"},
+                           Bad{"<mounting tilt_x=\"2\" unit=\"grad\"/>", "unit = 'grad' is not rad or deg"},
+                           Bad{"<mounting tilt_y=\"100\" unit=\"deg\"/>", "at most 90 degrees"},
+                           Bad{"<mounting tilt_x=\"nan\"/>", "mounting"},
+                           Bad{"<mounting tilt=\"1\"/>", "unknown attribute 'tilt'"},
+                           Bad{"<mounting><x/></mounting>", "unknown element <x> in <mounting>"},
+                           Bad{"<mounting/>\n<mounting/>", "a second <mounting> (the first is at line 2)"}}) {
+        const Loaded l = load(description(std::string(bad.text) + "\n"));
+        CAPTURE(bad.text);
+        REQUIRE(!l.errors.empty());
+        CHECK(l.errors.back().text().find(bad.words) != std::string::npos);
+        CHECK(l.errors.back().text().find("joints.xml:") != std::string::npos);
+    }
 }
 
 TEST_CASE("joint dynamics: resolution puts each entry's SI values on its Mechanism joint") {
