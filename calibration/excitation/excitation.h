@@ -43,7 +43,9 @@ struct ExcitationOptions {
     // controller's tracking error and the model's.
     double margin = 0.1;
     // Causes to make identifiable: catalogue names, each on every subject
-    // the catalogue offers it ("" names the default set: viscous and
+    // the catalogue offers it, or "cause on subject" (subject as
+    // subject_text writes it, e.g. "armature on joint 'elbow'") on one
+    // (empty names the default set: viscous and
     // Coulomb friction, armature and effort offset on every actuated joint,
     // and every moving body's mass).
     std::vector<std::string> causes;

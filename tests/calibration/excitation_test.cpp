@@ -1,9 +1,10 @@
 // Excitation design: the designed references start and end at rest and keep
 // every limit at every sample; MuJoCo following them under the generator's
 // PD controller stays within the limits; and records along them name the
-// hidden causes with their values. Their standard errors are printed beside
-// those of records along random multi-sines of the same duration and limits
-// (the hidden-effect generator's own).
+// hidden causes with their values. The design follows a first calibration on
+// random multi-sines (the hidden-effect generator's own): on the model it
+// extended, for the causes it named, within the same duration and limits;
+// the standard errors along both records are compared.
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -63,15 +64,34 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
                          << limits[i].acceleration << " rad/s^2, " << limits[i].effort << " N m; the random sines reach "
                          << speed << " rad/s, " << acceleration << " rad/s^2, " << effort << " N m");
     }
+    // The workflow the design serves: a first calibration on the records at
+    // hand names causes; the next record is designed, on the model that
+    // calibration extended, to pin those causes down.
+    const Identification a = mbx_test::identify_case(m, random.experiment_path);
+    REQUIRE(a.causes.size() == 2);
+    sim::BuildOptions first_stage;
     ExcitationOptions o;
+    for (const SelectedCause& sc : a.causes) {
+        const sim::JointT<double>& j = m.joints[size_t(sc.candidate.joint)];
+        sim::JointDynamics& jd = first_stage.joint_dynamics[j.source];
+        if (sc.candidate.cause == "viscous_friction") jd.damping = sc.parameters[0].value;
+        if (sc.candidate.cause == "armature") jd.armature = sc.parameters[0].value;
+        o.causes.push_back(sc.candidate.cause + " on " + subject_text(m, sc.candidate));
+    }
+    const sim::Model m1 = sim::build_model(*t->mechanism, first_stage);
     for (size_t i = 0; i < dofs.size(); ++i)
         o.effort_noise.push_back(spec.noise_fraction * std::sqrt(random_truth[0].commanded.col(Eigen::Index(i)).squaredNorm() /
                                                                  double(random_truth[0].t.size())));
-    o.period = 5, o.harmonics = 15, o.periods = 4, o.margin = 0.05;
+    // Up to 2.4 Hz, two fifths of the generator's 6 Hz PD, and 15 % of every
+    // limit kept free: there that PD follows with 12 % overshoot (its
+    // closed-loop gain), and its efforts reach 20 % above the model's.
+    o.period = 5, o.harmonics = 12, o.periods = 4, o.margin = 0.15;
+    if (const char* e = std::getenv("MBX_EXCITE_SEED")) o.seed = unsigned(std::atoi(e));
     if (const char* e = std::getenv("MBX_EXCITE_EVALS")) o.evaluations = std::atoi(e);  // (a look with a longer search)
-    o.causes = {"viscous_friction", "coulomb_friction", "armature", "effort_offset"};
+    // Every cause of the default set instead: a design for all of them at once.
+    if (std::getenv("MBX_EXCITE_ALL")) o.causes = {"viscous_friction", "coulomb_friction", "armature", "effort_offset"};
     const auto t0 = std::chrono::steady_clock::now();
-    const ExcitationDesign design = design_excitation(m, dofs, limits, o);
+    const ExcitationDesign design = design_excitation(m1, dofs, limits, o);
     MESSAGE("designed in " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s, "
                            << design.evaluations << " evaluations, criterion " << design.predicted.criterion);
 
@@ -79,7 +99,7 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
     // at rest at both ends.
     const SampledMotion mo = sample_design(design, 1000);
     REQUIRE(mo.t.size() == 20001);
-    const RegressionRows along = motion_rows(m, dofs, mo);
+    const RegressionRows along = motion_rows(m1, dofs, mo);
     for (size_t i = 0; i < dofs.size(); ++i) {
         const Eigen::Index c = Eigen::Index(i);
         const ExcitationLimits& L = limits[i];
@@ -119,8 +139,7 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
         CHECK(tm.commanded.col(Eigen::Index(i)).cwiseAbs().maxCoeff() <= limits[i].effort);
     }
 
-    const Identification a = mbx_test::identify_case(m, random.experiment_path),
-                         b = mbx_test::identify_case(m, along_design.experiment_path);
+    const Identification b = mbx_test::identify_case(m, along_design.experiment_path);
     for (const Identification* id : {&a, &b}) {
         std::string text;
         for (const SelectedCause& sc : id->causes)
@@ -129,7 +148,6 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
         MESSAGE((id == &a ? "random:  " : "designed:") << text);
     }
     // Along the design the calibration names both hidden causes with their values.
-    REQUIRE(a.causes.size() == 2);
     REQUIRE(b.causes.size() == 2);
     for (const SelectedCause& sb : b.causes) {
         const double truth = sb.candidate.cause == "armature" ? 0.02 : 0.4;
@@ -139,10 +157,12 @@ TEST_CASE("excitation design: references at rest at both ends and within every l
                 const double ratio = sa.parameters[0].std_error / sb.parameters[0].std_error;
                 MESSAGE(sb.candidate.cause << ": standard error " << sa.parameters[0].std_error << " along random sines, "
                                            << sb.parameters[0].std_error << " along the design (" << ratio << "x)");
-                // Smaller along the design (1.6x measured under the rated
-                // limits; the 2x the design is meant to reach is not there
-                // yet, docs/calibration.md "Excitation design").
-                if (!own_peaks) CHECK(ratio >= 1.3);
+                // Smaller along the design: 2.2x (armature) and 2.8x
+                // (damping) measured; over design seeds 1-4 the armature's
+                // gain ranges 1.74-2.22x, the damping's 2.1-2.8x, so the
+                // issue's 2x for every parameter is not yet assured
+                // (docs/calibration.md "Excitation design").
+                if (!own_peaks) CHECK(ratio >= (sb.candidate.cause == "armature" ? 1.7 : 2.0));
             }
     }
 }
