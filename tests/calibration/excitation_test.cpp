@@ -201,6 +201,11 @@ TEST_CASE("excitation design: what no design can meet is refused with the joint 
     o.causes = {"sensor_offset", "mounting_tilt"};
     o.subjects = {"joint 'shoulder'", "the mounting"};
     refused(o, limits, "not identifiable together");
+    o = {};
+    o.causes = {"armature on joint 'wrist'"};
+    refused(o, limits, "cannot make armature on joint 'wrist' identifiable: the model offers no such cause there");
+    o.causes = {"armature on joint 'elbow'", "stiction"};
+    refused(o, limits, "stiction");
 
     // Within limits, a design's predicted errors are finite and the stated
     // limits hold on the design's own grid.
