@@ -28,6 +28,9 @@ struct ExportSettings {
     // Collision shapes and contact materials (resolve_contact): MJCF geoms,
     // URDF <collision>, and in the glTF scene when scene_collision is set.
     ResolvedContact contact;
+    // The description's <mounting>: MJCF's gravity and Modelica's world
+    // direction are turned by its tilt, as the simulator's are.
+    MountingSpec mounting;
     // scene.glb also shows the collision shapes (semi-transparent nodes; opt-in).
     bool scene_collision = false;
 };

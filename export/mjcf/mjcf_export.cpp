@@ -72,7 +72,7 @@ private:
         pugi::xml_node option = root.append_child("option");
         set(option, "timestep", number_text(mjcf_defaults::timestep));
         set(option, "integrator", mjcf_defaults::integrator);
-        set(option, "gravity", spaced_text(Vec3(0, 0, -mjcf_defaults::gravity)));
+        set(option, "gravity", spaced_text(tilted_gravity(Vec3(0, 0, -mjcf_defaults::gravity), model_.settings().mounting)));
         // With a pyramidal cone a contact's normal softness depends on its
         // friction and the bodies' inertia (a ball with mu 0.4 rests ten
         // times shallower than its solref says); the elliptic cone keeps the

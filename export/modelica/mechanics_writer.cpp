@@ -361,8 +361,16 @@ void MechanicsBuilder::add_world() {
     w.inner = true;
     w.class_name = kWorld;
     w.name = "world";
-    w.description = "gravity 9.81 m/s2 along -z: the CAD assemblies are mostly z-up";
-    w.modifiers.emplace_back("n", "{0, 0, -1}");
+    const MountingSpec& mounting = model_.settings().mounting;
+    if (mounting.given && (mounting.tilt_x != 0 || mounting.tilt_y != 0)) {
+        // The description's mounting tilt turns gravity in the base frame.
+        const Vec3 n = tilted_gravity(Vec3(0, 0, -1), mounting);
+        w.description = "gravity 9.81 m/s2 along -z turned by the mounting's tilt (the description file's <mounting>)";
+        w.modifiers.emplace_back("n", "{" + number_text(n.x()) + ", " + number_text(n.y()) + ", " + number_text(n.z()) + "}");
+    } else {
+        w.description = "gravity 9.81 m/s2 along -z: the CAD assemblies are mostly z-up";
+        w.modifiers.emplace_back("n", "{0, 0, -1}");
+    }
     const double size = box.isEmpty() ? 0 : box.diagonal().norm();
     if (size > 0) w.modifiers.emplace_back("nominalLength", number_text(round_2_digits(size)));
     out_.components.push_back(std::move(w));

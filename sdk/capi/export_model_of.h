@@ -1,5 +1,5 @@
 // The ExportModel of a mechanism handle, as every consumer of its exports
-// needs it: the attached description's drives, joint dynamics and contact,
+// needs it: the attached description's drives, joint dynamics, contact and mounting,
 // and meshes fetched from the host while the handle still has it.
 #pragma once
 #include "sdk/capi/handles.h"
@@ -9,6 +9,7 @@ inline mbx::ExportModel export_model_of(mbx_mechanism* mechanism, mbx::ExportSet
     settings.drives = mechanism->drives;
     settings.joint_dynamics = mechanism->joint_dynamics;
     settings.contact = mechanism->contact;
+    settings.mounting = mechanism->mounting;
     mbx::Mechanism& m = *mechanism->model;
     mbx::BodyShapes shapes;
     if (mechanism->has_host)
