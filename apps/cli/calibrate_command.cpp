@@ -137,12 +137,13 @@ int run_calibrate(const std::vector<std::string>& args) {
         // inverse-dynamics measure): what a cause could still explain.
         const double above = std::sqrt(std::max(0.0, s.final_validation_error * s.final_validation_error -
                                                          s.noise_level * s.noise_level));
-        // (the calibration's own rule, explained_to_noise in calibration/identification/regression_rows.h)
-        if (s.final_validation_error <= 1.25 * s.noise_level)
+        if (s.explained_to_noise == 1)
             std::printf("explained to the noise: the records' own noise is %.2f %% of the effort\n", s.noise_level);
         else
             std::printf("%.2f %% of the effort RMS left above the noise (the records' own noise: %.2f %%)\n", above,
                         s.noise_level);
+        for (uint32_t i = 0; i < s.residual_note_count; ++i)
+            std::printf("  %s\n", mbx_calibration_get_residual_note(cal.h, i));
     }
     for (uint32_t i = 0; i < s.warning_count; ++i) std::printf("warning: %s\n", mbx_calibration_get_warning(cal.h, i));
     std::printf("report: %s/calibration.html\ndata: %s/calibration.json\ndescription: %s/description.xml (%.1f s)\n",

@@ -13,6 +13,7 @@ int run_formats(const std::vector<std::string>& args);
 int run_library(const std::vector<std::string>& args);
 int run_simulate(const std::vector<std::string>& args);
 int run_calibrate(const std::vector<std::string>& args);
+int run_excite(const std::vector<std::string>& args);
 int run_view(const std::vector<std::string>& args);
 int run_geometry(const std::vector<std::string>& args);
 

@@ -17,6 +17,8 @@ const char* kUsage =
     "  calibrate <input> --experiment <file.xml> -o <dir>\n"
     "                               name and fit what the model misses in measured data; writes\n"
     "                               calibration.json, calibration.html and description.xml to <dir>\n"
+    "  excite <input> -o <dir>      design the motion of a calibration record within the joints' limits;\n"
+    "                               writes excitation.csv, experiment.xml and excitation.html to <dir>\n"
     "  view <input> -o <dir>        write view.html to <dir>: the assembly in a browser, offline, playing\n"
     "                               <dir>/trajectory.csv when a simulation left one there\n"
     "  geometry <file.step> [-o <dir>]\n"
@@ -51,6 +53,7 @@ int main(int argc, char** argv) {
     if (command == "translate") return mbx_cli::run_translate(rest);
     if (command == "simulate") return mbx_cli::run_simulate(rest);
     if (command == "calibrate") return mbx_cli::run_calibrate(rest);
+    if (command == "excite") return mbx_cli::run_excite(rest);
     if (command == "view") return mbx_cli::run_view(rest);
     if (command == "geometry") return mbx_cli::run_geometry(rest);
     if (command == "list") return mbx_cli::run_list(rest);

@@ -64,14 +64,10 @@ RegressionRows motion_rows(const sim::Model& m, const std::vector<int>& dofs, co
     return rows_along(m, chain, dofs, motion);
 }
 
-PredictedErrors predict_errors(const RegressionRows& motion, const std::vector<Candidate>& causes,
-                               const std::vector<double>& noise, double rows_per_second, double seconds,
-                               const sim::Model& m) {
-    PredictedErrors out;
-    // Each row weighed by its joint's noise: the columns are then in units of it.
-    RegressionRows rows = motion;
-    rows.weight.assign(rows.actuated.size(), 1.0);
-    for (size_t a = 0; a < rows.actuated.size() && a < noise.size(); ++a) rows.weight[a] = 1 / noise[a];
+namespace {
+
+// The causes' columns side by side, rows weighted as `rows` says.
+Eigen::MatrixXd design_matrix(const RegressionRows& rows, const std::vector<Candidate>& causes) {
     Eigen::Index np = 0;
     for (const Candidate& c : causes) np += Eigen::Index(c.parameters.size());
     Eigen::MatrixXd X(rows.samples * Eigen::Index(rows.actuated.size()), np);
@@ -80,8 +76,51 @@ PredictedErrors predict_errors(const RegressionRows& motion, const std::vector<C
         const Eigen::MatrixXd cols = c.columns(rows);
         X.middleCols(at, cols.cols()) = cols;
         at += cols.cols();
-        for (const std::string& p : c.parameters) out.names.push_back(c.cause + "." + p + " on " + subject_text(m, c));
     }
+    return X;
+}
+
+}  // namespace
+
+std::vector<Candidate> separable_causes(const RegressionRows& rows, const std::vector<Candidate>& causes,
+                                        const sim::Model& m, std::vector<std::string>& dropped) {
+    const Eigen::MatrixXd X = design_matrix(rows, causes);
+    if (X.cols() == 0 || !X.allFinite()) return causes;
+    // Unit columns, then a rank-revealing QR: the pivots are the most
+    // independent columns first, and those past the rank are combinations
+    // of them (or zero).
+    Eigen::VectorXd norms = X.colwise().norm().transpose();
+    const double top = norms.maxCoeff();
+    Eigen::MatrixXd Xn = X;
+    for (Eigen::Index j = 0; j < X.cols(); ++j) Xn.col(j) = norms[j] > 1e-12 * top ? Eigen::VectorXd(X.col(j) / norms[j]) : Eigen::VectorXd::Zero(X.rows());
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Xn);
+    qr.setThreshold(1e-6);
+    std::vector<char> independent(size_t(X.cols()), 0);
+    for (Eigen::Index k = 0; k < qr.rank(); ++k) independent[size_t(qr.colsPermutation().indices()[k])] = 1;
+    std::vector<Candidate> out;
+    Eigen::Index at = 0;
+    for (const Candidate& c : causes) {
+        bool all = true;
+        for (size_t p = 0; p < c.parameters.size(); ++p) all = all && independent[size_t(at + Eigen::Index(p))];
+        at += Eigen::Index(c.parameters.size());
+        if (all) out.push_back(c);
+        else dropped.push_back(c.cause + " on " + subject_text(m, c));
+    }
+    return out;
+}
+
+PredictedErrors predict_errors(const RegressionRows& motion, const std::vector<Candidate>& causes,
+                               const std::vector<double>& noise, double rows_per_second, double seconds,
+                               const sim::Model& m) {
+    PredictedErrors out;
+    // Each row weighed by its joint's noise: the columns are then in units of it.
+    RegressionRows rows = motion;
+    rows.weight.assign(rows.actuated.size(), 1.0);
+    for (size_t a = 0; a < rows.actuated.size() && a < noise.size(); ++a) rows.weight[a] = 1 / noise[a];
+    const Eigen::MatrixXd X = design_matrix(rows, causes);
+    const Eigen::Index np = X.cols();
+    for (const Candidate& c : causes)
+        for (const std::string& p : c.parameters) out.names.push_back(c.cause + "." + p + " on " + subject_text(m, c));
     out.std_error = Eigen::VectorXd::Constant(np, INFINITY);
     if (np == 0 || !X.allFinite()) return out;
     // The rows stand for rows_per_second * seconds of identification rows:
@@ -410,20 +449,33 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     // largest error ratio against the first motion as the criterion, which
     // traded one parameter's gain for another's less evenly than the mean.)
     auto criterion = [&](const RegressionRows& rows) {
-        if (causes.empty()) causes = excitation_causes(m, rows, o);
+        if (causes.empty()) {
+            causes = excitation_causes(m, rows, o);
+            // The default set leaves out what this machine cannot show in
+            // its efforts (a body whose mass no joint carries against
+            // gravity or acceleration) or shows only as another cause;
+            // causes asked for by name are kept, and refused if they are.
+            if (o.causes.empty()) causes = separable_causes(rows, causes, m, out.dropped);
+        }
         if (noise.empty())
             for (size_t i = 0; i < dofs.size(); ++i) {
                 const double rms = std::sqrt(rows.model_effort.col(Eigen::Index(i)).squaredNorm() / double(rows.samples));
                 noise.push_back(o.noise_share * (std::isfinite(limits[i].effort) ? limits[i].effort : std::max(rms, 1e-12)));
             }
-        return predict_errors(rows, causes, noise, rows_per_second, seconds, m).criterion;
+        return predict_errors(rows, causes, noise, rows_per_second, seconds, m);
     };
     auto evaluate = [&](const Eigen::VectorXd& given) {
         const Eigen::VectorXd shape = p.at_own_limits(given);
         Problem::Evaluated e = p.at_limits(shape);
         ++out.evaluations;
+        if (o.progress && !o.progress(double(out.evaluations) / o.evaluations))
+            throw Error(MBX_ERROR_CANCELLED, model, "excitation design cancelled");
         if (!e.ok) return false;
-        const double f = criterion(e.rows);
+        const PredictedErrors predicted = criterion(e.rows);
+        // The first motion is a random multi-sine within the same limits:
+        // what a record made without a design would give, for the report.
+        if (out.reference.names.empty()) out.reference = predicted;
+        const double f = predicted.criterion;
         if (!(f < best_f)) return false;
         best_f = f, best_x = shape;
         return true;

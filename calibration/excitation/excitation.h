@@ -11,6 +11,7 @@
 // those of unrelated ones).
 #pragma once
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,9 @@ struct ExcitationOptions {
     double noise_share = 0.01;
     double sample_rate = 1000;     // Hz of the records, for the predicted errors (rows as identify decimates them)
     double cutoff = 0;             // Hz of the records' filter; 0: sample_rate / 40 (identify's default)
+    // Called after every evaluation with the share done; false cancels
+    // (mbx::Error MBX_ERROR_CANCELLED).
+    std::function<bool(double)> progress;
 };
 
 // The predicted standard errors of `candidates`' parameters along a motion,
@@ -79,7 +83,13 @@ struct ExcitationDesign {
     std::vector<FourierReference> references;
     std::vector<Candidate> causes;  // whose parameters the design makes identifiable
     PredictedErrors predicted;
+    // The same along the search's first motion, a random multi-sine scaled
+    // to the same limits (what a record made without a design would give).
+    PredictedErrors reference;
     std::vector<double> effort_noise;  // the noise the prediction assumed, per coordinate
+    // Causes of the default set left out: no motion shows them in the
+    // efforts apart from the others ("cause on subject").
+    std::vector<std::string> dropped;
     // Along the design (with margins kept): the largest |q - limit| use, speed,
     // acceleration and effort per coordinate, for the report.
     std::vector<double> peak_velocity, peak_acceleration, peak_effort, lowest, highest;
@@ -100,6 +110,11 @@ RegressionRows motion_rows(const sim::Model& m, const std::vector<int>& dofs, co
 PredictedErrors predict_errors(const RegressionRows& rows, const std::vector<Candidate>& causes,
                                const std::vector<double>& effort_noise, double rows_per_second, double seconds,
                                const sim::Model& m);
+
+// `causes` less those whose columns along `rows` are zero or combinations of
+// the others' (named in `dropped` as "cause on subject").
+std::vector<Candidate> separable_causes(const RegressionRows& rows, const std::vector<Candidate>& causes,
+                                        const sim::Model& m, std::vector<std::string>& dropped);
 
 // The candidates the options name, one per cause and subject (its first variant).
 std::vector<Candidate> excitation_causes(const sim::Model& m, const RegressionRows& rows, const ExcitationOptions& options);

@@ -348,6 +348,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                   << percent(current.sse_validation - gain_of[size_t(close)], meas_v)
                   << " %): these records hardly tell them apart; a record with another load or motion would";
                 out.warnings.push_back(s.str());
+                out.ambiguous.push_back({cb.cause + " on " + subject_text(m, cb), o.cause + " on " + subject_text(m, o)});
             }
             if (!rivals.empty()) {
                 // A group the records cannot tell apart still explains the
@@ -380,6 +381,8 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 else
                     s << " (the catalogue's simpler cause); a record with another load or motion would tell which";
                 out.warnings.push_back(s.str());
+                out.ambiguous.emplace_back();
+                for (size_t k : group) out.ambiguous.back().push_back(candidates[k].cause + " on " + subject_text(m, candidates[k]));
                 carried_with[carried] = others.str();
                 if (int(carried) != best) {
                     best = int(carried);

@@ -43,6 +43,10 @@ struct Identification {
     // (velocity reversals, high accelerations, a part of a joint's range),
     // in words with its share; empty when it is spread or at the noise.
     std::vector<std::string> residual_concentration;
+    // The groups of causes these records could hardly or not at all tell
+    // apart (the warnings' groups), each cause as "cause on subject"
+    // (subject_text): what an excitation design is asked to separate.
+    std::vector<std::vector<std::string>> ambiguous;
 };
 
 Identification identify(const sim::Model& m, const RegressionRows& fit, const RegressionRows& validation,

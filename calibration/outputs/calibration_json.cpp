@@ -255,6 +255,15 @@ std::string calibration_json(const sim::Model& model, const Experiment& experime
     for (const std::string& s : id.warnings)
         if (std::find(r.warnings.begin(), r.warnings.end(), s) == r.warnings.end()) w.value(s);
     w.end_array();
+    // The warnings' groups, each cause as "cause on subject": what `mbx
+    // excite --calibration` designs a record to separate.
+    w.key("ambiguous").begin_array();
+    for (const std::vector<std::string>& group : id.ambiguous) {
+        w.begin_array(JsonWriter::Layout::Inline);
+        for (const std::string& c : group) w.value(c);
+        w.end_array();
+    }
+    w.end_array();
     w.key("considered").begin_array();
     for (const std::string& s : id.considered) w.value(s);
     w.end_array();

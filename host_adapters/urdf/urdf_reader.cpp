@@ -12,7 +12,7 @@
 #include <Eigen/Eigenvalues>
 #include <pugixml.hpp>
 
-#include "host_adapters/common/json_value.h"
+#include "core/report/json_value.h"
 #include "host_adapters/common/file_bytes.h"
 #include "host_adapters/common/line_index.h"
 #include "host_adapters/common/numbers.h"
@@ -343,6 +343,10 @@ UrdfModel read_urdf(const std::string& path) {
 }  // namespace mbx_files
 
 namespace mbx_files {
+
+using mbx::JsonError;
+using mbx::JsonValue;
+using mbx::parse_json;
 
 std::vector<UrdfCutJoint> parse_cut_joints(std::string_view text, const std::string& file) {
     JsonValue root;

@@ -896,6 +896,8 @@ class CalibrationSummary:
     final_simulated_validation_error: float
     noise_level: float
     wall_time: float
+    explained_to_noise: int  # 1: what is left is noise; 0: it stands above; -1: noise not measured
+    residual_note_count: int
 
 
 @dataclass
@@ -925,7 +927,8 @@ class Cause:
 
 class Calibration:
     """The result of :meth:`Mechanism.calibrate`: ``summary``, ``causes``
-    (with parameters) and ``warnings``, read once from the SDK."""
+    (with parameters), ``warnings`` and ``residual_notes``, read once from
+    the SDK."""
 
     def __init__(self, handle):
         self._handle = handle
@@ -952,6 +955,9 @@ class Calibration:
             if w is None:
                 break
             self.warnings.append(_s(w))
+        # Where the residual above the noise lies, in words.
+        self.residual_notes: List[str] = [_s(_c.mbx_calibration_get_residual_note(handle, i))
+                                          for i in range(s.residual_note_count)]
 
     def close(self):
         """Frees the SDK's result (everything read stays). Idempotent."""

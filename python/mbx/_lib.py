@@ -149,7 +149,8 @@ class CalibrationSummary(ctypes.Structure):
                 ("warning_count", ctypes.c_uint32)] + [(n, ctypes.c_double) for n in (
         "baseline_fit_error", "baseline_validation_error", "final_fit_error", "final_validation_error",
         "baseline_simulated_fit_error", "baseline_simulated_validation_error", "final_simulated_fit_error",
-        "final_simulated_validation_error", "noise_level", "wall_time")]
+        "final_simulated_validation_error", "noise_level", "wall_time")] + [
+        ("explained_to_noise", ctypes.c_int32), ("residual_note_count", ctypes.c_uint32)]
 
 
 class CalibrationCause(ctypes.Structure):
@@ -256,6 +257,7 @@ _PROTOTYPES = {
     "mbx_calibration_get_cause": (_S, [_P, _U, ctypes.POINTER(CalibrationCause)]),
     "mbx_calibration_get_parameter": (_S, [_P, _U, _U, ctypes.POINTER(CalibrationParameter)]),
     "mbx_calibration_get_warning": (_C, [_P, _U]),
+    "mbx_calibration_get_residual_note": (_C, [_P, _U]),
 }
 
 _FILES_PROTOTYPES = {

@@ -121,6 +121,10 @@ MBX_API mbx_status mbx_calibration_get_summary(const mbx_calibration* c, mbx_cal
     s.final_simulated_validation_error = r.final_step().simulated_validation;
     s.noise_level = r.identification.noise_level;
     s.wall_time = r.wall_time;
+    s.explained_to_noise = std::isfinite(s.noise_level)
+                               ? (explained_to_noise(r.identification.final_validation_error, s.noise_level) ? 1 : 0)
+                               : -1;
+    s.residual_note_count = uint32_t(r.identification.residual_concentration.size());
     return copy_out(out, s);
 }
 
@@ -160,6 +164,11 @@ MBX_API mbx_status mbx_calibration_get_parameter(const mbx_calibration* c, uint3
 MBX_API const char* mbx_calibration_get_warning(const mbx_calibration* c, uint32_t index) {
     if (!c || index >= c->result.warnings.size()) return nullptr;
     return c->result.warnings[index].c_str();
+}
+
+MBX_API const char* mbx_calibration_get_residual_note(const mbx_calibration* c, uint32_t index) {
+    if (!c || index >= c->result.identification.residual_concentration.size()) return nullptr;
+    return c->result.identification.residual_concentration[index].c_str();
 }
 
 }  // extern "C"

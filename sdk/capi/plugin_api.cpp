@@ -78,6 +78,14 @@ const mbx_api kApi = {
     mbx_mechatronics_set_body_correction,
     mbx_mechatronics_load_drives_text,
     mbx_mechanism_update_urdf,
+    mbx_calibration_get_residual_note,
+    mbx_excite,
+    mbx_excitation_destroy,
+    mbx_excitation_get_summary,
+    mbx_excitation_get_joint,
+    mbx_excitation_get_parameter,
+    mbx_excitation_sample,
+    mbx_excitation_get_dropped,
 };
 
 }  // namespace

@@ -14,7 +14,7 @@
 
 #include "adapter_test_support.h"
 #include "host_adapters/common/file_error.h"
-#include "host_adapters/common/json_value.h"
+#include "core/report/json_value.h"
 #include "host_adapters/inputs/input_formats.h"
 #include "host_adapters/urdf/urdf_adapter.h"
 #include "host_adapters/urdf/urdf_assembly.h"
@@ -349,8 +349,8 @@ TEST_CASE("urdf: a floating base is six freedoms from the world, and the input t
 namespace MBX_UNITY_ID {
 
 TEST_CASE("urdf cut-joint file: JSON read with its lines, a broken file an error naming its line") {
-    using mbx_files::JsonValue;
-    const JsonValue v = mbx_files::parse_json("{\n  \"a\": [1, -2.5e3, true, null],\n  \"b\": {\"c\": \"x\\n\\u00e9\"}\n}\n");
+    using mbx::JsonValue;
+    const JsonValue v = mbx::parse_json("{\n  \"a\": [1, -2.5e3, true, null],\n  \"b\": {\"c\": \"x\\n\\u00e9\"}\n}\n");
     REQUIRE(v.kind == JsonValue::Kind::object);
     const JsonValue* a = v.find("a");
     REQUIRE(a != nullptr);
@@ -373,9 +373,9 @@ TEST_CASE("urdf cut-joint file: JSON read with its lines, a broken file an error
                                            {std::string(100, '['), 1, "nested deeper than 64"}}) {
         CAPTURE(bad.text);
         try {
-            mbx_files::parse_json(bad.text);
+            mbx::parse_json(bad.text);
             FAIL("accepted");
-        } catch (const mbx_files::JsonError& e) {
+        } catch (const mbx::JsonError& e) {
             CHECK(e.line() == bad.line);
             CHECK(std::string(e.what()).find(bad.message) != std::string::npos);
         }

@@ -5,6 +5,8 @@
 // named and what is left is the noise.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <cmath>
 
 #include "calibration/calibrate.h"
@@ -55,6 +57,13 @@ void check_carried(const Identification& id, const std::string& label) {
     if (carried->candidate.cause == "effort_offset")
         CHECK(std::abs(carried->parameters.at(0).value) == mbx_test::relative(0.3, 0.03));
     CHECK(group_warned);
+    // The same group as data, for an excitation design to separate.
+    bool group_listed = false;
+    for (const std::vector<std::string>& g : id.ambiguous)
+        group_listed = group_listed ||
+                       (std::find(g.begin(), g.end(), "effort_offset on joint 'elbow'") != g.end() &&
+                        std::find(g.begin(), g.end(), "asymmetric_friction on joint 'elbow'") != g.end());
+    CHECK(group_listed);
 }
 
 TEST_CASE("ambiguity: an offset tied with asymmetric friction is carried as one of its group and the armature beside it is named") {

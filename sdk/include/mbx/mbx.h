@@ -65,7 +65,7 @@ extern "C" {
 #define MBX_VERSION_STRING "0.1.0"
 
 /* Bumped whenever a struct field or an mbx_api function is appended. */
-#define MBX_ABI_VERSION 12u
+#define MBX_ABI_VERSION 13u
 
 /* True when `field` of the struct pointed to by `ptr` lies within the
  * struct_size the other side declared. */
@@ -1023,6 +1023,14 @@ typedef struct mbx_calibration_summary {
     double final_simulated_fit_error, final_simulated_validation_error;
     double noise_level; /* % of the effort that is the records' own noise (what no model explains); NaN: none */
     double wall_time;   /* s */
+    /* --- ABI 13 --- */
+    /* 1: the validation error is within 1.25 times the noise level (what is
+     * left is noise); 0: it stands above it; -1: the noise was not measured. */
+    int32_t explained_to_noise;
+    /* Sentences saying where the residual above the noise concentrates
+     * (velocity reversals, high accelerations, a part of a joint's range):
+     * mbx_calibration_get_residual_note. */
+    uint32_t residual_note_count;
 } mbx_calibration_summary;
 
 typedef struct mbx_calibration_cause {
@@ -1054,6 +1062,112 @@ MBX_API mbx_status mbx_calibration_get_parameter(const mbx_calibration *calibrat
                                                  mbx_calibration_parameter *out);
 /* NULL past the last warning. */
 MBX_API const char *mbx_calibration_get_warning(const mbx_calibration *calibration, uint32_t index);
+/* (ABI 13) NULL past the last note. */
+MBX_API const char *mbx_calibration_get_residual_note(const mbx_calibration *calibration, uint32_t index);
+
+/* ------------------------------------------------------------------------ */
+/* Excitation design (ABI 13; docs/calibration.md, "Excitation design"):     */
+/* periodic references for the actuated joints, a Fourier series each, at    */
+/* rest at both ends and within every joint's limits, along which the causes */
+/* asked for are identifiable together (the smallest predicted standard      */
+/* errors in the inverse-dynamics fit).                                      */
+/* ------------------------------------------------------------------------ */
+typedef struct mbx_excitation mbx_excitation;
+
+/* One joint's limits for the design, SI. NaN keeps what the model has (the
+ * description's or the CAD joint's range, the host's rated speed and
+ * effort, a drive's limits); INFINITY: none. */
+typedef struct mbx_joint_limits {
+    uint32_t struct_size;
+    const char *joint; /* CAD constraint id or the report's joint name */
+    double lower, upper, velocity, acceleration, effort;
+} mbx_joint_limits;
+
+#define MBX_EXCITE_SET_MARGIN 2u /* mbx_excite_options.flags: use margin (else 0.1) */
+
+typedef struct mbx_excite_options {
+    uint32_t struct_size;
+    uint32_t flags;            /* MBX_SIM_SET_GRAVITY, MBX_EXCITE_SET_MARGIN */
+    double gravity[3];         /* m/s^2, world (turned by the description's <mounting>) */
+    double period;             /* s; 0: 10 */
+    uint32_t harmonics;        /* 0: 6 */
+    uint32_t periods;          /* 0: 2 */
+    double margin;             /* share of every limit (of the position range) left free */
+    double sample_rate;        /* Hz of the records and of excitation.csv; 0: 1000 */
+    double cutoff;             /* Hz of the records' filter; 0: sample_rate / 40 */
+    double noise_share;        /* effort noise as a share of each effort limit; 0: 0.01 */
+    double acceleration_limit; /* for every joint without one (rad/s^2 or m/s^2); 0: none */
+    uint32_t evaluations;      /* of the criterion by the search; 0: 600 */
+    uint32_t seed;             /* 0: 1 */
+    /* Causes to make identifiable: catalogue names (each on every subject),
+     * or "cause on subject" as calibration.json writes them ("armature on
+     * joint 'elbow'"). None: the default set, or calibration's. */
+    const char *const *causes;
+    uint32_t cause_count;
+    /* A calibration.json: design for the causes it named and the groups its
+     * warnings say the records could not tell apart (with `causes`, both). */
+    const char *calibration;
+    /* Joints to design for (ids or names); none: the driven joints, else
+     * every joint with a rated speed or effort, else every tree joint of a
+     * model without loops. */
+    const char *const *joints;
+    uint32_t joint_count;
+    const mbx_joint_limits *limits; /* overrides, one per joint named */
+    uint32_t limit_count;
+    /* Folder for excitation.csv, experiment.xml, excitation.json and
+     * excitation.html (created; written as one unit). NULL: no files. */
+    const char *directory;
+} mbx_excite_options;
+
+/* Designs on `mechanism` with its attached drives and joint dynamics. The
+ * context's progress callback sees the stage "excite" and may cancel. Bad
+ * options, limits no motion can meet and causes no motion separates fail
+ * with MBX_ERROR_INVALID_INPUT naming the joint, cause or option. */
+MBX_API mbx_status mbx_excite(mbx_context *context, const mbx_mechanism *mechanism,
+                              const mbx_excite_options *options, mbx_excitation **out_excitation);
+MBX_API void mbx_excitation_destroy(mbx_excitation *excitation);
+
+typedef struct mbx_excitation_summary {
+    uint32_t struct_size;
+    uint32_t joint_count;
+    uint32_t parameter_count;
+    uint32_t periods;
+    uint32_t evaluations;
+    double period;     /* s */
+    double criterion;  /* mean log10 of the predicted standard errors */
+    double wall_time;  /* s */
+    /* Causes of the default set left out: this machine's efforts show them
+     * not at all or only as others (mbx_excitation_get_dropped). */
+    uint32_t dropped_count;
+} mbx_excitation_summary;
+
+typedef struct mbx_excitation_joint {
+    uint32_t struct_size;
+    const char *id, *name;
+    double start;                                        /* rad or m: where the motion starts and ends */
+    double lower, upper, velocity, acceleration, effort; /* the limits used (INFINITY: none) */
+    const char *limit_source;                            /* where they came from, in words */
+    double lowest, highest, peak_velocity, peak_acceleration, peak_effort; /* reached */
+} mbx_excitation_joint;
+
+typedef struct mbx_excitation_parameter {
+    uint32_t struct_size;
+    const char *name;                  /* "cause.parameter on subject" */
+    double std_error;                  /* predicted along the design */
+    double random_multisine_std_error; /* along a random multi-sine within the same limits */
+    double measured_std_error;         /* in the given calibration.json; NaN: none */
+} mbx_excitation_parameter;
+
+/* Strings stay valid until the excitation is destroyed. */
+MBX_API mbx_status mbx_excitation_get_summary(const mbx_excitation *excitation, mbx_excitation_summary *out);
+MBX_API mbx_status mbx_excitation_get_joint(const mbx_excitation *excitation, uint32_t index, mbx_excitation_joint *out);
+MBX_API mbx_status mbx_excitation_get_parameter(const mbx_excitation *excitation, uint32_t index,
+                                                mbx_excitation_parameter *out);
+/* "cause on subject"; NULL past the last. */
+MBX_API const char *mbx_excitation_get_dropped(const mbx_excitation *excitation, uint32_t index);
+/* The references at time t (s, clamped to the design's length): joint_count
+ * positions, speeds and accelerations (any may be NULL). */
+MBX_API mbx_status mbx_excitation_sample(const mbx_excitation *excitation, double t, double *q, double *qd, double *qdd);
 
 /* ------------------------------------------------------------------------ */
 /* Contact (ABI 9): collision shapes on bodies and contact materials, what    */
@@ -1232,6 +1346,15 @@ typedef struct mbx_api {
     mbx_status (*mechatronics_load_drives_text)(mbx_context *, mbx_mechatronics *, const char *, const char *);
     /* --- version 12 --- */
     mbx_status (*mechanism_update_urdf)(mbx_context *, mbx_mechanism *, const char *, const char *);
+    /* --- version 13 --- */
+    const char *(*calibration_get_residual_note)(const mbx_calibration *, uint32_t);
+    mbx_status (*excite)(mbx_context *, const mbx_mechanism *, const mbx_excite_options *, mbx_excitation **);
+    void (*excitation_destroy)(mbx_excitation *);
+    mbx_status (*excitation_get_summary)(const mbx_excitation *, mbx_excitation_summary *);
+    mbx_status (*excitation_get_joint)(const mbx_excitation *, uint32_t, mbx_excitation_joint *);
+    mbx_status (*excitation_get_parameter)(const mbx_excitation *, uint32_t, mbx_excitation_parameter *);
+    mbx_status (*excitation_sample)(const mbx_excitation *, double, double *, double *, double *);
+    const char *(*excitation_get_dropped)(const mbx_excitation *, uint32_t);
 } mbx_api;
 
 #define MBX_PLUGIN_ENTRY_NAME "mbx_plugin_api"

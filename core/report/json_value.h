@@ -1,5 +1,5 @@
-// A small JSON reader for the sidecar files mbx writes and reads back (the
-// URDF export's cut joints): objects, arrays, strings, numbers, true, false,
+// A small JSON reader for the files mbx writes and reads back (the URDF
+// export's cut joints, calibration.json for mbx excite): objects, arrays, strings, numbers, true, false,
 // null, each value with the line it starts on. Hostile input is refused with
 // a JsonError naming the line (depth capped at 64, numbers finite, strings
 // valid escapes), never a crash.
@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace mbx_files {
+namespace mbx {
 
 class JsonError : public std::runtime_error {
 public:
@@ -39,4 +39,4 @@ struct JsonValue {
 // Throws JsonError for text that is not one JSON value.
 JsonValue parse_json(std::string_view text);
 
-}  // namespace mbx_files
+}  // namespace mbx

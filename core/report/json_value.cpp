@@ -1,4 +1,4 @@
-#include "host_adapters/common/json_value.h"
+#include "core/report/json_value.h"
 
 #include <algorithm>
 #include <cctype>
@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "host_adapters/common/numbers.h"
+#include <charconv>
 
-namespace mbx_files {
+namespace mbx {
 
 const JsonValue* JsonValue::find(std::string_view key) const {
     if (kind != Kind::object) return nullptr;
@@ -19,6 +19,17 @@ const JsonValue* JsonValue::find(std::string_view key) const {
 }
 
 namespace {
+
+// A JSON number's text (the grammar's characters, already scanned) as a
+// finite double, locale-independent; nullopt when it is not one.
+std::optional<double> finite_number(std::string_view text) {
+    if (text.empty() || text[0] == '+') return std::nullopt;
+    double value = 0;
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value, std::chars_format::general);
+    if (ec != std::errc() || ptr != end || !std::isfinite(value)) return std::nullopt;
+    return value;
+}
 
 constexpr int kMaxDepth = 64;
 
@@ -105,7 +116,7 @@ private:
             while (end < text_.size() && (std::isdigit(static_cast<unsigned char>(text_[end])) || text_[end] == '-' ||
                                           text_[end] == '+' || text_[end] == '.' || text_[end] == 'e' || text_[end] == 'E'))
                 ++end;
-            const std::optional<double> x = end > at_ ? parse_number(text_.substr(at_, end - at_)) : std::nullopt;
+            const std::optional<double> x = end > at_ ? finite_number(text_.substr(at_, end - at_)) : std::nullopt;
             if (!x) {
                 size_t stop = at_;
                 while (stop < text_.size() && stop - at_ < 20 && !std::strchr(",:]} \t\r\n", text_[stop])) ++stop;
@@ -172,4 +183,4 @@ private:
 
 JsonValue parse_json(std::string_view text) { return Parser(text).run(); }
 
-}  // namespace mbx_files
+}  // namespace mbx
