@@ -7,6 +7,7 @@
 
 #include "calibration/outputs/calibration_files.h"
 #include "sdk/capi/contact_build.h"
+#include "sdk/capi/build_options_of.h"
 #include "sdk/capi/guard.h"
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
@@ -42,16 +43,7 @@ MBX_API mbx_status mbx_calibrate(mbx_context* context, const mbx_mechanism* mech
         if (options->struct_size < 2 * sizeof(uint32_t)) bad_argument("mbx_calibrate_options.struct_size is too small");
         std::memcpy(&o, options, std::min<size_t>(options->struct_size, sizeof o));
         if (!o.experiment || !*o.experiment) bad_argument("mbx_calibrate_options.experiment is not set");
-        sim::BuildOptions build;
-        if (o.flags & MBX_SIM_SET_GRAVITY) {
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(o.gravity[k])) bad_argument("gravity is not finite");
-            build.gravity = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
-        }
-        build.gravity = tilted_gravity(build.gravity, mechanism->mounting);
-        build.drives = mechanism->drives;
-        build.joint_dynamics = sim::joint_dynamics_by_joint(mechanism->joint_dynamics);
-        build.transmissions = sim::transmissions_by_joint(mechanism->joint_dynamics);
+        sim::BuildOptions build = build_options_of(*mechanism, o.flags, o.gravity);
         const Experiment experiment = load_experiment(o.experiment);
         CalibrateOptions co;
         if (context->progress) {

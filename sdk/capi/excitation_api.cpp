@@ -13,6 +13,7 @@
 
 #include "calibration/outputs/excitation_files.h"
 #include "core/report/json_value.h"
+#include "sdk/capi/build_options_of.h"
 #include "sdk/capi/guard.h"
 #include "sim/build_model.h"
 #include "sim/resolved_joint_dynamics.h"
@@ -131,16 +132,7 @@ MBX_API mbx_status mbx_excite(mbx_context* context, const mbx_mechanism* mechani
             if (options->struct_size < 2 * sizeof(uint32_t)) bad_argument("mbx_excite_options.struct_size is too small");
             std::memcpy(&o, options, std::min<size_t>(options->struct_size, sizeof o));
         }
-        sim::BuildOptions build;
-        if (o.flags & MBX_SIM_SET_GRAVITY) {
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(o.gravity[k])) bad_argument("gravity is not finite");
-            build.gravity = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
-        }
-        build.gravity = tilted_gravity(build.gravity, mechanism->mounting);
-        build.drives = mechanism->drives;
-        build.joint_dynamics = sim::joint_dynamics_by_joint(mechanism->joint_dynamics);
-        build.transmissions = sim::transmissions_by_joint(mechanism->joint_dynamics);
+        sim::BuildOptions build = build_options_of(*mechanism, o.flags, o.gravity);
         const sim::Model m = sim::build_model(*mechanism->model, build);
         const Mechanism& mech = *mechanism->model;
 

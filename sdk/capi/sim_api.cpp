@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "sdk/capi/contact_build.h"
+#include "sdk/capi/build_options_of.h"
 #include "sdk/capi/guard.h"
 #include "sdk/capi/sim_handles.h"
 #include "sim/build_model.h"
@@ -62,16 +63,7 @@ MBX_API mbx_status mbx_sim_model_create(mbx_context* context, const mbx_mechanis
             if (options->struct_size < 2 * sizeof(uint32_t)) bad_argument("mbx_sim_options.struct_size is too small");
             std::memcpy(&o, options, std::min<size_t>(options->struct_size, sizeof o));
         }
-        BuildOptions build;
-        if (o.flags & MBX_SIM_SET_GRAVITY) {
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(o.gravity[k])) bad_argument("gravity is not finite");
-            build.gravity = Vec3(o.gravity[0], o.gravity[1], o.gravity[2]);
-        }
-        build.gravity = tilted_gravity(build.gravity, mechanism->mounting);
-        build.drives = mechanism->drives;
-        build.joint_dynamics = joint_dynamics_by_joint(mechanism->joint_dynamics);
-        build.transmissions = transmissions_by_joint(mechanism->joint_dynamics);
+        BuildOptions build = build_options_of(*mechanism, o.flags, o.gravity);
         auto handle = std::make_unique<mbx_sim_model>();
         const int integrator = raw_enum(o.integrator);
         switch (integrator) {
