@@ -250,6 +250,7 @@ TEST_CASE("excitation design: the four-bar's coupler mass and crank gain, predic
     ExcitationOptions o;
     o.period = 4, o.harmonics = 10, o.periods = 4, o.margin = 0.15;
     o.effort_noise = {3e-6};
+    o.evaluations = 150;  // (the loop closed at every sample makes each evaluation costly under the sanitizers)
     o.causes = {"mass_error on body 'Coupler'", "actuator_gain on joint 'rev_A'"};
     const ExcitationDesign design = design_excitation(m, {crank}, limits, o);
     REQUIRE(design.predicted.names.size() == 2);
