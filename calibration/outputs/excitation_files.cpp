@@ -41,16 +41,14 @@ std::vector<std::string> stems(const sim::Model& m, const ExcitationDesign& d) {
     return out;
 }
 
-std::string lookup(const std::vector<std::pair<std::string, double>>& table, const std::string& name, double& value) {
-    for (const auto& [n, v] : table)
-        if (n == name) {
-            value = v;
-            return n;
-        }
-    return "";
-}
 
 }  // namespace
+
+double measured_std_error(const ExcitationReport& r, const std::string& name) {
+    for (const auto& [n, v] : r.measured_std_error)
+        if (n == name) return v;
+    return NAN;
+}
 
 std::string excitation_column_stem(const sim::Model& m, int dof) {
     std::string s;
@@ -186,8 +184,8 @@ std::string excitation_json(const sim::Model& m, const ExcitationDesign& d, cons
         w.member("name", d.predicted.names[k]).member("std_error", d.predicted.std_error[Eigen::Index(k)]);
         if (k < size_t(d.reference.std_error.size()))
             w.member("random_multisine_std_error", d.reference.std_error[Eigen::Index(k)]);
-        double measured = NAN;
-        if (!lookup(r.measured_std_error, d.predicted.names[k], measured).empty()) w.member("measured_std_error", measured);
+        const double measured = measured_std_error(r, d.predicted.names[k]);
+        if (!std::isnan(measured)) w.member("measured_std_error", measured);
         w.end_object();
     }
     w.end_array();
@@ -222,8 +220,7 @@ std::string excitation_html(const sim::Model& m, const ExcitationDesign& d, cons
         h += "<tr><td>" + esc(d.predicted.names[k]) + "</td><td class=\"n\">" + num(e, 3) + "</td><td class=\"n\">" +
              num(ref, 3) + "</td><td class=\"n\">" + num(ref / e, 3) + "×</td>";
         if (!r.measured_std_error.empty()) {
-            double measured = NAN;
-            lookup(r.measured_std_error, d.predicted.names[k], measured);
+            const double measured = measured_std_error(r, d.predicted.names[k]);
             h += "<td class=\"n\">" + num(measured, 3) + "</td><td class=\"n\">" + num(measured / e, 3) + "×</td>";
         }
         h += "</tr>\n";

@@ -26,6 +26,10 @@ struct ExcitationReport {
     std::vector<std::pair<std::string, double>> measured_std_error;
 };
 
+// The records' standard error of a parameter (PredictedErrors name), NaN
+// when the report has none.
+double measured_std_error(const ExcitationReport& r, const std::string& name);
+
 // Column names of a design dof's reference in excitation.csv and of the
 // measured quantities experiment.xml expects: letters, digits and '_'.
 std::string excitation_column_stem(const sim::Model& m, int dof);

@@ -302,9 +302,7 @@ MBX_API mbx_status mbx_excitation_get_parameter(const mbx_excitation* e, uint32_
     p.std_error = d.predicted.std_error[Eigen::Index(index)];
     p.random_multisine_std_error =
         index < size_t(d.reference.std_error.size()) ? d.reference.std_error[Eigen::Index(index)] : NAN;
-    p.measured_std_error = NAN;
-    for (const auto& [name, value] : e->report.measured_std_error)
-        if (name == d.predicted.names[index]) p.measured_std_error = value;
+    p.measured_std_error = measured_std_error(e->report, d.predicted.names[index]);
     return copy_out(out, p);
 }
 
