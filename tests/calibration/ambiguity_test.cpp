@@ -16,6 +16,8 @@
 #include "hidden_effects.h"
 #include "sim/build_model.h"
 #include "temp_dir.h"
+#include "tests/common/skip.h"
+#include "tests/common/slow_build.h"
 #include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
@@ -76,10 +78,17 @@ TEST_CASE("ambiguity: an offset tied with asymmetric friction is carried as one 
     auto t = mbx_test::open_mechanism(spec.mechanism);
 
     // The whole calibration: the pair's columns agree to 0.9997 here, one
-    // parameter for the rule, and the run ends explained to the noise.
-    const CalibrationResult r = calibrate(*t->mechanism, {}, load_experiment(c.experiment_path));
-    check_carried(r.identification, "calibrate");
-    CHECK(explained_to_noise(r.identification.final_validation_error, r.identification.noise_level));
+    // parameter for the rule, and the run ends explained to the noise. Its
+    // transmission stage fits compliance through the simulator in the
+    // armature's place (Jets: 7 minutes under the sanitizers), so that
+    // build checks the identification below only.
+    if (!kSlowBuild) {
+        const CalibrationResult r = calibrate(*t->mechanism, {}, load_experiment(c.experiment_path));
+        check_carried(r.identification, "calibrate");
+        CHECK(explained_to_noise(r.identification.final_validation_error, r.identification.noise_level));
+    } else {
+        MBX_SKIP_PART("the whole calibration's transmission stage runs in the release build");
+    }
 
     // The same rows with the one-parameter rule set above that agreement: a
     // pair merely alike, which used to be refused outright (neither named).
