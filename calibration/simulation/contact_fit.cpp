@@ -1,4 +1,5 @@
 #include "calibration/simulation/contact_fit.h"
+#include "calibration/simulation/quiet_solve.h"
 
 #include <ceres/ceres.h>
 
@@ -323,7 +324,7 @@ JointFit fit_jointly(const ContactScene& scene, const ContactModel& base, const 
     solver.parameter_tolerance = 1e-3;
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
+    solve_quietly(solver, &problem, &summary);
 
     const int n = cost->num_residuals(), p = int(causes.size());
     Eigen::VectorXd r(n);

@@ -1,4 +1,5 @@
 #include "calibration/simulation/nonlinear_fit.h"
+#include "calibration/simulation/quiet_solve.h"
 
 #include <ceres/ceres.h>
 
@@ -586,10 +587,11 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
     so.parameter_tolerance = 1e-10;
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
+    solve_quietly(so, &problem, &summary);
     out.iterations = int(summary.iterations.size());
     out.converged = summary.termination_type == ceres::CONVERGENCE;
     out.report = summary.BriefReport();
+    out.note = solver_note(summary, "the simulation fit");
 
     // Standard errors from the Jacobian at the optimum. A window's residuals
     // are one simulated trajectory, strongly correlated along it (an error in
@@ -761,6 +763,7 @@ Identification add_transmissions(const sim::Model& m, const std::vector<const Re
         line << "from " << start.end()[-3] << " (grid), stiffness " << stiffness.value << " +- " << stiffness.std_error
              << ", simulated validation error " << percent(before) << " with the " << arm.candidate.cause << ", "
              << percent(after) << " with compliance";
+        if (!sf.note.empty()) line << " (" << sf.note << ")";
         out.considered.push_back(line.str());
         if (!(t > options.min_t_ratio) || !(after < (1 - options.min_relative_gain) * before)) continue;
 

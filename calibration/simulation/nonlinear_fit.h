@@ -60,6 +60,9 @@ struct SimulationFit {
     double seconds = 0;
     bool converged = false;
     std::string report;  // Ceres' one-line summary
+    // Why the solve did not converge, in mbx's words ("" when it did):
+    // what a Ceres log line would have said, for the run's messages.
+    std::string note;
 };
 
 // Whether the simulator can carry `cause` with parameters to refine.

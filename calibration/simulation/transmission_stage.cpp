@@ -137,6 +137,7 @@ Identification add_backlash(const sim::Model& m, const std::vector<const Record*
             const Estimate& b = f.parameters.back()[0];
             line << "from " << width << " (grid), width " << b.value << " +- " << b.std_error << ", simulated validation error "
                  << percent(before) << " without, " << percent(after) << " with it";
+            if (!f.note.empty()) line << " (" << f.note << ")";
             out.considered.push_back(line.str());
             if (b.value > options.backlash_t_ratio * b.std_error && after < best.after)
                 best = {after, f, trial, joint.name};
