@@ -54,7 +54,33 @@ double noise_floor(const sim::Model& m, const RegressionRows& rows, const std::v
                     white_noise_sigma(s.values, dt, 2 * rec.filter_cutoff(), NoiseShape::Uniform) * std::sqrt(share) / (dt * dt);
     }
     const bool positions = hinges && acceleration_sigma.cwiseAbs().maxCoeff() > 0;
+    // In a closed chain only the independent (measured) coordinates' noise
+    // reaches the rows: the others are solved from them, so an independent
+    // acceleration's error a moves them all by G a, and the rows' effort,
+    // G^T tau, by G^T M G a. The tree's M alone would count the loop's
+    // cancelling motions (on the four-bar the coupler turning against the
+    // crank) and put the floor ten times too high.
+    std::vector<char> in_every_record(size_t(m.nv), 0);
+    for (int dof = 0; dof < m.nv; ++dof) {
+        bool all = !records.empty();
+        for (const Record* r : records) all = all && r->find(Quantity::Position, dof);
+        in_every_record[size_t(dof)] = all;
+    }
+    ClosedChain chain;
+    if (positions && !m.closures.empty()) chain = closed_chain(m, in_every_record);
+    std::vector<int> coordinates;  // the columns of the inertia below
+    if (chain.active()) {
+        coordinates = chain.independent;
+    } else {
+        for (int dof = 0; dof < m.nv; ++dof) coordinates.push_back(dof);
+    }
+    std::vector<Eigen::Index> actuated_at(size_t(na), -1);
+    for (Eigen::Index a = 0; a < na; ++a)
+        actuated_at[size_t(a)] = Eigen::Index(std::find(coordinates.begin(), coordinates.end(), rows.actuated[size_t(a)]) -
+                                              coordinates.begin());
     sim::Data d(m);
+    Eigen::MatrixXd G, inertia;
+    Eigen::VectorXd qd, qdd, sigma(Eigen::Index(coordinates.size()));
     double expected = 0;
     for (int s = 0; s < rows.samples && size_t(s) < rows.row_record.size(); ++s) {
         const int r = rows.row_record[size_t(s)];
@@ -62,10 +88,17 @@ double noise_floor(const sim::Model& m, const RegressionRows& rows, const std::v
         Eigen::VectorXd spread = effort_variance.row(r).transpose();
         if (positions) {
             d.q = rows.q.row(s).transpose();
+            if (chain.active()) {
+                qd = rows.qd.row(s).transpose(), qdd = rows.qdd.row(s).transpose();
+                chain.close(m, d, qd, qdd, G);
+            }
             sim::update_positions(m, d);
             sim::mass_matrix(m, d);
+            inertia = chain.active() ? Eigen::MatrixXd(G.transpose() * d.M * G) : Eigen::MatrixXd(d.M);
+            for (size_t c = 0; c < coordinates.size(); ++c) sigma[Eigen::Index(c)] = acceleration_sigma(r, coordinates[c]);
             for (Eigen::Index a = 0; a < na; ++a)
-                spread[a] += (d.M.row(rows.actuated[size_t(a)]).cwiseProduct(acceleration_sigma.row(r))).squaredNorm();
+                if (actuated_at[size_t(a)] < inertia.rows())
+                    spread[a] += inertia.row(actuated_at[size_t(a)]).transpose().cwiseProduct(sigma).squaredNorm();
         }
         for (Eigen::Index a = 0; a < na; ++a) expected += rows.weight[size_t(a)] * rows.weight[size_t(a)] * spread[a];
     }

@@ -66,8 +66,9 @@ struct RegressionRows {
 // `rows` built from `records`. NaN when no record holds an effort.
 // The measured positions' own noise (an encoder's counts) adds what the
 // model's mass matrix makes of it, differentiated twice and filtered (for a
-// model whose coordinates are all hinges and slides; along the tree's mass
-// matrix, so a closed chain's is an estimate).
+// model whose coordinates are all hinges and slides; in a closed chain the
+// mass matrix of the motions the loops allow, G^T M G on the independent
+// coordinates).
 double noise_floor(const sim::Model& m, const RegressionRows& rows, const std::vector<const Record*>& records);
 
 struct IdentifyOptions {

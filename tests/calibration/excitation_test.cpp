@@ -235,9 +235,8 @@ using namespace mbx::calibration;
 // are most of the crank's effort). The design for exactly those two
 // predicts both at least 2x better than a random multi-sine within the same
 // limits. (The MuJoCo records that should confirm it are not in this test:
-// on the four-bar the measured noise floor reads 37-40 % of the effort, the
-// generator's PD answering its encoder's quantisation above the motion's
-// band, and stops the selection before any cause; docs/calibration.md.)
+// on them the coupler's mass error fits worse than the gain, a mismatch of
+// the model's coupler column against MuJoCo's four-bar; docs/calibration.md.)
 TEST_CASE("excitation design: the four-bar's coupler mass and crank gain, predicted apart along the design") {
     auto t = mbx_test::open_mechanism("fourbar");
     const sim::Model m = sim::build_model(*t->mechanism);
