@@ -18,11 +18,31 @@ struct Fit {
     bool ok = false;
 };
 
+// The residual in the recorded effort's units. An actuator gain g = 1 - d
+// (its column the recorded effort on its joint's rows, `gain` marking it)
+// says the joint needs g times what was recorded, so there the linear
+// residual g E - tau is g times E - tau / g, what the model misses of the
+// recorded effort. Every cause's residual is compared in those units: taken
+// as it comes, a gain shrinks the residual's scale with itself, and where
+// the measured motion's own noise dominates (an encoder's counts twice
+// differentiated, through the inertia) it beats the cause that is there (the
+// four-bar's coupler mass, docs/calibration.md).
+void to_recorded_units(Eigen::VectorXd& r, const Eigen::MatrixXd& X, const Eigen::VectorXd& theta,
+                       const std::vector<char>& gain) {
+    for (Eigen::Index j = 0; j < X.cols() && size_t(j) < gain.size(); ++j) {
+        const double g = 1 - theta[j];
+        if (!gain[size_t(j)] || !(g > 0)) continue;
+        for (Eigen::Index i = 0; i < r.size(); ++i)
+            if (X(i, j) != 0) r[i] /= g;
+    }
+}
+
 // Least squares of y on X (column-pivoted QR: collinear columns give a
 // rank-deficient fit, which is reported as not ok), residual variance from
-// the fit rows, covariance sigma^2 (X^T X)^-1.
+// the fit rows, covariance sigma^2 (X^T X)^-1; the errors' sums of squares in
+// the recorded effort's units (`gain`: X's actuator-gain columns).
 Fit least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Eigen::MatrixXd& Xv,
-                  const Eigen::VectorXd& yv) {
+                  const Eigen::VectorXd& yv, const std::vector<char>& gain = {}) {
     Fit f;
     if (X.cols() == 0) {
         f.theta.resize(0);
@@ -33,11 +53,15 @@ Fit least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Eige
     qr.setThreshold(1e-10);
     if (qr.rank() < X.cols()) return f;
     f.theta = qr.solve(y);
-    f.sse_fit = (y - X * f.theta).squaredNorm();
-    f.sse_validation = (yv - Xv * f.theta).squaredNorm();
+    Eigen::VectorXd r = y - X * f.theta, rv = yv - Xv * f.theta;
+    const double linear_sse = r.squaredNorm();
+    to_recorded_units(r, X, f.theta, gain);
+    to_recorded_units(rv, Xv, f.theta, gain);
+    f.sse_fit = r.squaredNorm();
+    f.sse_validation = rv.squaredNorm();
     const double dof = std::max(1.0, double(X.rows() - X.cols()));
     const Eigen::MatrixXd XtX = X.transpose() * X;
-    f.covariance = (f.sse_fit / dof) * XtX.ldlt().solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
+    f.covariance = (linear_sse / dof) * XtX.ldlt().solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
     f.ok = f.theta.allFinite();
     return f;
 }
@@ -80,6 +104,12 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
 
     std::vector<size_t> chosen;
     Eigen::MatrixXd X(y.size(), 0), Xv(yv.size(), 0);
+    std::vector<char> X_gain;  // per column of X: an actuator gain's (to_recorded_units)
+    auto with_gain = [&](size_t k) {
+        std::vector<char> g = X_gain;
+        g.resize(X_gain.size() + size_t(cols[k].cols()), candidates[k].kind().id == CauseId::ActuatorGain);
+        return g;
+    };
     Fit current = least_squares(X, y, Xv, yv);
     std::vector<size_t> refused;  // candidates the data could not tell from a named one
     std::map<size_t, std::string> carried_with;  // a named candidate: the group's others, in words
@@ -116,7 +146,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 if (c.kind().refinement != Refinement::GridAndSpeeds || taken(c)) continue;
                 Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
                 X2 << X, cols[k];
-                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0));
+                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0), with_gain(k));
                 if (f.ok && f.sse_fit < best_sse[size_t(c.dof)]) best_sse[size_t(c.dof)] = f.sse_fit, best_at[size_t(c.dof)] = int(k);
             }
             for (int k : best_at)
@@ -148,7 +178,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
                 X2 << X, ck;
                 Xv2 << Xv, cvk;
-                return least_squares(X2, y, Xv2, yv);
+                return least_squares(X2, y, Xv2, yv, with_gain(k));
             };
             Fit f = fit_with(cols[k], cols_v[k]);
             if (!f.ok) continue;
@@ -315,10 +345,12 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 const Candidate& o = candidates[k];
                 if (int(k) == best || !(gain_of[k] > 0.5 * best_gain) || o.cause == cb.cause) continue;
                 const double r = std::abs(correlation(rb, unexplained(cols[k].col(0))));
-                if (r > options.ambiguous_correlation && r > close_r &&
-                    percent(current.sse_validation - gain_of[k], meas_v) <
-                        options.ambiguous_error_ratio * percent(current.sse_validation - best_gain, meas_v))
-                    close = int(k), close_r = r;
+                const double e_rival = percent(current.sse_validation - gain_of[k], meas_v),
+                             e_best = percent(current.sse_validation - best_gain, meas_v), floor = options.noise_level;
+                const bool near_noise = std::isfinite(floor) && floor > 0 && e_best <= 2 * floor;
+                const bool alike = near_noise ? e_rival * e_rival - e_best * e_best < options.ambiguous_noise_share * floor * floor
+                                              : e_rival < options.ambiguous_error_ratio * e_best;
+                if (r > options.ambiguous_correlation && r > close_r && alike) close = int(k), close_r = r;
                 // Told apart when validation prefers the best one strongly (the BIC margin).
                 const double sse_rival = current.sse_validation - gain_of[k];
                 if (bic(sse_rival, nv, 1) - bic(best_fit.sse_validation, nv, 1) > options.bic_margin) continue;
@@ -390,7 +422,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                         Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
                     X2 << X, cols[size_t(best)];
                     Xv2 << Xv, cols_v[size_t(best)];
-                    best_fit = least_squares(X2, y, Xv2, yv);
+                    best_fit = least_squares(X2, y, Xv2, yv, with_gain(size_t(best)));
                     if (!best_fit.ok) break;
                 }
             }
@@ -413,6 +445,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()), Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
         X2 << X, cols[size_t(best)];
         Xv2 << Xv, cols_v[size_t(best)];
+        X_gain = with_gain(size_t(best));
         X = std::move(X2), Xv = std::move(Xv2);
         current = best_fit;
         sc.fit_error = percent(current.sse_fit, meas);
@@ -514,16 +547,34 @@ void recompute_errors(Identification& id, const RegressionRows& fit, const Regre
     Eigen::VectorXd left_fit = fit.y(), left_validation = validation.y();
     const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();
     double before = id.baseline_validation_error;
+    // The actuator gains named so far, for the errors in recorded units.
+    Eigen::MatrixXd gains_fit(left_fit.size(), 0), gains_validation(left_validation.size(), 0);
+    Eigen::VectorXd deficits(0);
+    auto sse = [&](const Eigen::VectorXd& left, const Eigen::MatrixXd& gains) {
+        Eigen::VectorXd r = left;
+        to_recorded_units(r, gains, deficits, std::vector<char>(size_t(gains.cols()), 1));
+        return r.squaredNorm();
+    };
     for (SelectedCause& c : id.causes) {
         remove_cause(c, fit, left_fit);
         remove_cause(c, validation, left_validation);
-        c.fit_error = percent(left_fit.squaredNorm(), meas);
-        c.validation_error = percent(left_validation.squaredNorm(), meas_v);
+        if (c.candidate.kind().id == CauseId::ActuatorGain && !c.parameters.empty()) {
+            auto append = [](Eigen::MatrixXd& to, const Eigen::MatrixXd& col) {
+                to.conservativeResize(Eigen::NoChange, to.cols() + 1);
+                to.col(to.cols() - 1) = col.col(0);
+            };
+            append(gains_fit, c.candidate.columns(fit));
+            append(gains_validation, c.candidate.columns(validation));
+            deficits.conservativeResize(deficits.size() + 1);
+            deficits[deficits.size() - 1] = c.parameters[0].value;
+        }
+        c.fit_error = percent(sse(left_fit, gains_fit), meas);
+        c.validation_error = percent(sse(left_validation, gains_validation), meas_v);
         c.validation_gain = before - c.validation_error;
         before = c.validation_error;
     }
-    id.final_fit_error = percent(left_fit.squaredNorm(), meas);
-    id.final_validation_error = percent(left_validation.squaredNorm(), meas_v);
+    id.final_fit_error = percent(sse(left_fit, gains_fit), meas);
+    id.final_validation_error = percent(sse(left_validation, gains_validation), meas_v);
 }
 
 }  // namespace mbx::calibration

@@ -736,6 +736,7 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
                 const double q = d->qpos[m->jnt_qposadr[m->dof_jntid[act_dof[i]]]], v = d->qvel[act_dof[i]];
                 double r, rd;
                 if (rec == 0 && spec.fit_reference) spec.fit_reference(i, time, r, rd);
+                else if (rec == 1 && spec.validation_reference) spec.validation_reference(i, time, r, rd);
                 else ref[i].value(time, r, rd);
                 u[i] = kp[i] * (r - (q + je[i].sensor_offset)) + kd[i] * (rd - v);
                 history[i].push_back(u[i]);

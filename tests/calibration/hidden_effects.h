@@ -60,6 +60,9 @@ struct CaseSpec {
     // The fit record's reference per actuated joint (position and speed at
     // t) in place of the random multi-sine: a designed excitation.
     std::function<void(size_t joint, double t, double& r, double& rd)> fit_reference;
+    // The same for the validation record (a second run along a designed
+    // excitation, as the experiment file `mbx excite` writes asks for).
+    std::function<void(size_t joint, double t, double& r, double& rd)> validation_reference;
 };
 
 struct GeneratedCase {
