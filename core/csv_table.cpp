@@ -39,7 +39,9 @@ CsvTable read_csv_table(const std::string& path, const Subject& subject) {
 }
 
 CsvTable read_csv_table_text(const std::string& text, const std::string& path, const Subject& subject) {
-    std::istringstream in(text);
+    // Spreadsheets save "CSV UTF-8" with a byte-order mark before the first column's name.
+    const bool bom = text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+    std::istringstream in(bom ? text.substr(3) : text);
     CsvTable t;
     std::string line;
     if (!std::getline(in, line))

@@ -99,17 +99,20 @@ int run_simulate(const std::vector<std::string>& args) {
             settings.push_back(s);
         } else if (a == "--gravity" && has_value) {
             const std::string text = args[++i];
+            // Exactly three numbers: a fourth value or trailing junk is a typo, not something to drop.
             double g[3];
             size_t start = 0;
             int n = 0;
             bool ok = true;
-            while (ok && n < 3) {
+            for (;;) {
                 const size_t comma = text.find(',', start);
-                ok = parse_number(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start), g[n++]);
+                const std::string piece = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+                ok = ok && n < 3 && parse_number(piece, g[n]);
+                ++n;
                 if (comma == std::string::npos) break;
                 start = comma + 1;
             }
-            if (!ok || n != 3 || text.find(',', start) != std::string::npos) {
+            if (!ok || n != 3) {
                 std::fprintf(stderr, "mbx simulate: --gravity takes three numbers gx,gy,gz (got '%s')\n", text.c_str());
                 return 2;
             }

@@ -43,4 +43,14 @@ TEST_CASE("read_csv_text reads what read_csv reads from the file, errors naming 
     }
     CHECK_THROWS_AS(read_csv_text("", "empty.csv"), mbx::Error);
 }
+
+TEST_CASE("read_csv_text: a UTF-8 byte-order mark before the header (a spreadsheet's CSV UTF-8) is not part of the first name") {
+    const Table t = read_csv_text("\xEF\xBB\xBFt,q\n0,1\n0.001,2\n", "bom.csv");
+    CHECK(t.column("t") == 0);
+    CHECK(t.column("q") == 1);
+    CHECK(t.columns[0] == std::vector<double>{0, 0.001});
+    // Only at the start: elsewhere the bytes stay in the name they are in.
+    const Table u = read_csv_text("t,\xEF\xBB\xBFq\n0,1\n", "mid.csv");
+    CHECK(u.column("q") == -1);
+}
 }  // namespace MBX_UNITY_ID

@@ -242,6 +242,85 @@ TEST_CASE("step tessellation of bad solids: a shell with a face missing stays op
     CHECK(none[0].problems[0].message.find("face not meshed") != std::string::npos);
 }
 
+// A torus ring (major radius 20 mm, minor 5 mm) whose outer bounding circle
+// is centred on its own start point, 25 mm off the torus: the two faces'
+// bounds are not on their surface. Refining against them used to fill the
+// face budget with folds (4.8 million triangles of negative volume, 12 s;
+// found by fuzz_step_mesh); each face is now a finding and nothing is
+// meshed. With the circle centred where it belongs the ring meshes closed
+// with the torus's volume.
+TEST_CASE("step tessellation: a face whose bounds lie off its surface is a finding, not a mesh of folds") {
+    const std::string data =
+        "#1=CARTESIAN_POINT('',(25.,0.,0.));\n"
+        "#2=VERTEX_POINT('',#1);\n"
+        "#3=DIRECTION('',(1.,0.,0.));\n"
+        "#4=DIRECTION('',(0.,0.,1.));\n"
+        "#5=CARTESIAN_POINT('',(0.,0.,0.));\n"
+        "#6=AXIS2_PLACEMENT_3D('',#1,#4,#3);\n"
+        "#7=CIRCLE('',#6,25.);\n"
+        "#8=EDGE_CURVE('',#2,#2,#7,.T.);\n"
+        "#9=CARTESIAN_POINT('',(15.,0.,0.));\n"
+        "#10=VERTEX_POINT('',#9);\n"
+        "#11=DIRECTION('',(1.,0.,0.));\n"
+        "#12=DIRECTION('',(0.,0.,1.));\n"
+        "#13=CARTESIAN_POINT('',(0.,0.,0.));\n"
+        "#14=AXIS2_PLACEMENT_3D('',#13,#12,#11);\n"
+        "#15=CIRCLE('',#14,15.);\n"
+        "#16=EDGE_CURVE('',#10,#10,#15,.T.);\n"
+        "#17=DIRECTION('',(1.,0.,0.));\n"
+        "#18=DIRECTION('',(0.,0.,1.));\n"
+        "#19=CARTESIAN_POINT('',(0.,0.,0.));\n"
+        "#20=AXIS2_PLACEMENT_3D('',#19,#18,#17);\n"
+        "#21=TOROIDAL_SURFACE('',#20,20.,5.);\n"
+        "#22=ORIENTED_EDGE('',*,*,#8,.T.);\n"
+        "#23=EDGE_LOOP('',(#22));\n"
+        "#24=FACE_OUTER_BOUND('',#23,.T.);\n"
+        "#25=ORIENTED_EDGE('',*,*,#16,.F.);\n"
+        "#26=EDGE_LOOP('',(#25));\n"
+        "#27=FACE_BOUND('',#26,.T.);\n"
+        "#28=ADVANCED_FACE('',(#24,#27),#21,.T.);\n"
+        "#29=ORIENTED_EDGE('',*,*,#8,.F.);\n"
+        "#30=EDGE_LOOP('',(#29));\n"
+        "#31=FACE_OUTER_BOUND('',#30,.T.);\n"
+        "#32=ORIENTED_EDGE('',*,*,#16,.T.);\n"
+        "#33=EDGE_LOOP('',(#32));\n"
+        "#34=FACE_BOUND('',#33,.T.);\n"
+        "#35=ADVANCED_FACE('',(#31,#34),#21,.T.);\n"
+        "#36=CLOSED_SHELL('',(#28,#35));\n"
+        "#37=MANIFOLD_SOLID_BREP('',#36);\n"
+        "#38=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n"
+        "#39=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));\n"
+        "#40=DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n"
+        "#41=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n"
+        "#42=(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n"
+        "#43=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#38,#41,#42))REPRESENTATION_CONTEXT('',''));\n"
+        "#44=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#37),#43);\n";
+    auto meshed = [](const std::string& text) {
+        const Brep b = read_breps(read_part21(step_test::wrap(text), "ring.stp"));
+        REQUIRE(b.solids.size() == 1);
+        const std::vector<SolidMesh> m = tessellate(b, Tolerance{});
+        REQUIRE(m.size() == 1);
+        return m[0];
+    };
+    const SolidMesh off = meshed(data);
+    CHECK(off.mesh.triangles.empty());
+    CHECK(off.faces_failed == 2);
+    REQUIRE(off.problems.size() == 2);
+    for (const auto& p : off.problems) {
+        CHECK((p.entity == 28 || p.entity == 35));
+        CHECK(p.message.find("off its surface") != std::string::npos);
+    }
+    std::string centred = data;
+    const std::string placed = "#6=AXIS2_PLACEMENT_3D('',#1,#4,#3);";
+    centred.replace(centred.find(placed), placed.size(), "#6=AXIS2_PLACEMENT_3D('',#5,#4,#3);");
+    const SolidMesh ring = meshed(centred);
+    CHECK(ring.problems.empty());
+    const step_test::FlatMesh flat = step_test::flatten(ring.mesh);
+    CHECK(mbx::check_closure(flat.indices).closed);
+    const double torus = 2 * M_PI * M_PI * 0.020 * 0.005 * 0.005;
+    CHECK(std::abs(flat.signed_volume) == mbx_test::relative(torus, 1e-3));
+}
+
 }  // namespace MBX_UNITY_ID
 
 namespace MBX_UNITY_ID {
