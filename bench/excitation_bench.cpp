@@ -1,13 +1,13 @@
 // The excitation design's wall time (calibration/excitation): a two-link
 // chain, the four-bar (its crank actuated, the loop closed at every sample)
-// and a 7-DoF chain, 6 harmonics, a 10 s period, the default causes and 600
-// evaluations of the criterion. Its peer is MuJoCo computing inverse
+// and a 7-DoF chain, 6 harmonics, a 10 s period, the default causes and the
+// default search (2400 evaluations of the criterion in four searches). Its peer is MuJoCo computing inverse
 // dynamics (mj_inverse) at every 1 kHz sample of the designed record, on
 // mbx's MJCF export of the same translation: the design costs that many of
 // MuJoCo's passes along the motion it designs. The predicted standard errors'
 // gain over a random multi-sine within the same limits is printed beside it.
 //
-//   bench_excitation [evaluations]   (default 600)
+//   bench_excitation [evaluations]   (default: the design's, 2400)
 #include <unistd.h>
 
 #include <chrono>
@@ -30,7 +30,7 @@ volatile double g_sink;
 int main(int argc, char** argv) {
     using namespace mbx_bench;
     namespace cal = mbx::calibration;
-    const int evaluations = argc > 1 ? std::max(1, std::atoi(argv[1])) : 600;
+    const int evaluations = argc > 1 ? std::max(1, std::atoi(argv[1])) : cal::ExcitationOptions{}.evaluations;
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("mbx_bench_excitation_" + std::to_string(::getpid()));
     try {

@@ -562,6 +562,7 @@ std::vector<CauseKind> make_table() {
     k = joint_cause(CauseId::SensorOffset, "sensor_offset", "a position reading off by a constant", {"offset"}, sensor_columns,
                     sensor_extend);
     k.subject = CauseSubject::AnyJoint, k.refinement = Refinement::OffsetAnchor, k.simulated = false;
+    k.row_parts = kPositionSensitivity;
     k.needs_effort = false;
     t.push_back(k);
     k = CauseKind{};
@@ -570,7 +571,7 @@ std::vector<CauseKind> make_table() {
     k.parameters = {"mass_change"};  // and the variants' centre-of-mass shifts and inertia changes
     k.candidates = mass_candidates, k.columns = mass_columns, k.physical = mass_physical;
     k.refinement = Refinement::ComAnchor, k.extend = mass_extend, k.simulated = true;
-    k.simulation_bounds = mass_bounds;
+    k.simulation_bounds = mass_bounds, k.row_parts = kInertialRegressor;
     t.push_back(k);
     k = joint_cause(CauseId::Compliance, "compliance", "a motor inertia behind a spring and damper",
                     {"stiffness", "damping", "motor_inertia"},
@@ -589,6 +590,7 @@ std::vector<CauseKind> make_table() {
     k.parameters = {kTiltNames[0], kTiltNames[1]};  // (rad) or the one the records see
     k.candidates = tilt_candidates, k.columns = tilt_columns, k.physical = tilt_physical;
     k.refinement = Refinement::None, k.extend = tilt_extend, k.simulated = false;
+    k.row_parts = kGravityShares;
     t.push_back(k);
     return t;
 }

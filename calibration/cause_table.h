@@ -83,6 +83,9 @@ struct CauseKind {
     bool rigid_motor;                             // a rigid model's view of a motor inertia (compliance may replace it)
     // Bounds of parameter i, from its start value (infinite: none).
     void (*simulation_bounds)(const Candidate& c, size_t i, double start, double& lower, double& upper);
+    // The parts of the rows (RowPart) its candidates and columns read
+    // beyond the motion and the model's efforts.
+    unsigned row_parts;
 };
 
 // Every cause, in catalogue order.

@@ -36,7 +36,7 @@ const std::string kExciteUsage = std::string(
     "  --limit <joint>=<lower>:<upper>:<speed>:<acceleration>:<effort>  SI; an empty field keeps the model's,\n"
     "              'inf' removes it (repeatable)\n"
     "  --sample-rate <Hz>, --cutoff <Hz>  the records' rate (default 1000) and filter (default rate/40)\n"
-    "  --evaluations <n>, --seed <n>  the search's length (default 600) and random seed\n") +
+    "  --evaluations <n>, --seed <n>  the search's length (default 2400) and random seed\n") +
     kInputOptionsHelp;
 
 struct LimitText {

@@ -36,6 +36,16 @@ struct FourierReference {
     void at(double t, double period, double& q, double& qd, double& qdd) const;
 };
 
+// The controller that will follow a joint's reference, as a servo at the
+// joint: effort = stiffness (r - q) + damping (rate - q'), rate = r' when
+// the damping acts on the error, 0 when it acts on the measured speed alone
+// (a drive's kd and velocity loop, mechatronics' ServoEquivalent).
+struct ExcitationServo {
+    double stiffness = 0;  // N m/rad or N/m; 0: the joint follows its reference exactly
+    double damping = 0;    // N m s/rad or N s/m
+    bool damping_on_error = false;
+};
+
 struct ExcitationOptions {
     double period = 10;     // s
     int harmonics = 6;
@@ -54,7 +64,10 @@ struct ExcitationOptions {
     // as subject_text writes them; empty: all).
     std::vector<std::string> subjects;
     int samples_per_period = 200;  // the grid the limits and the criterion are evaluated on
-    int evaluations = 600;         // of the criterion, by the search
+    int evaluations = 2400;        // of the criterion, by the search
+    // Independent searches the evaluations are shared among (at most one
+    // per 300 evaluations): the best of several is surer than one as long.
+    int searches = 4;
     unsigned seed = 1;
     // Per actuated coordinate the records' effort noise (sigma, N m or N),
     // or empty: noise_share times each joint's effort limit (times the
@@ -63,6 +76,13 @@ struct ExcitationOptions {
     double noise_share = 0.01;
     double sample_rate = 1000;     // Hz of the records, for the predicted errors (rows as identify decimates them)
     double cutoff = 0;             // Hz of the records' filter; 0: sample_rate / 40 (identify's default)
+    // Per actuated coordinate the servo that follows the reference (empty:
+    // each follows it exactly). The design then keeps the limits and
+    // predicts the errors along the motion the servo makes of the
+    // reference (each harmonic through the closed loop of the servo and the
+    // joint's inertia at the start pose), as well as along the reference:
+    // a servo near its bandwidth overshoots what it is asked.
+    std::vector<ExcitationServo> servo;
     // Called after every evaluation with the share done; false cancels
     // (mbx::Error MBX_ERROR_CANCELLED).
     std::function<bool(double)> progress;
@@ -87,11 +107,16 @@ struct ExcitationDesign {
     // to the same limits (what a record made without a design would give).
     PredictedErrors reference;
     std::vector<double> effort_noise;  // the noise the prediction assumed, per coordinate
+    // Per coordinate the inertia its servo moves (options.servo given; empty otherwise).
+    std::vector<double> servo_inertia;
     // Causes of the default set left out: no motion shows them in the
     // efforts apart from the others ("cause on subject").
     std::vector<std::string> dropped;
-    // Along the design (with margins kept): the largest |q - limit| use, speed,
-    // acceleration and effort per coordinate, for the report.
+    // Along the motion the joints will make (the references through the
+    // servos, or the references themselves without): the lowest and highest
+    // position, the largest speed, acceleration and effort per coordinate,
+    // for the report; within the limits less the margins, as are the
+    // references.
     std::vector<double> peak_velocity, peak_acceleration, peak_effort, lowest, highest;
     int evaluations = 0;
 };
@@ -124,7 +149,12 @@ std::vector<Candidate> excitation_causes(const sim::Model& m, const RegressionRo
 ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& dofs,
                                    const std::vector<ExcitationLimits>& limits, const ExcitationOptions& options);
 
-// The design's motion at `rate` samples per second over its periods.
+// The design's references at `rate` samples per second over its periods.
 SampledMotion sample_design(const ExcitationDesign& design, double rate);
+
+// The periodic motion a servo with the joint's inertia `inertia` makes of
+// reference `r` (each harmonic through the closed loop; the mean passes
+// unchanged).
+FourierReference followed(const FourierReference& r, double period, const ExcitationServo& servo, double inertia);
 
 }  // namespace mbx::calibration

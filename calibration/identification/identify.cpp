@@ -38,11 +38,19 @@ void to_recorded_units(Eigen::VectorXd& r, const Eigen::MatrixXd& X, const Eigen
 }
 
 // Least squares of y on X (column-pivoted QR: collinear columns give a
-// rank-deficient fit, which is reported as not ok), residual variance from
-// the fit rows, covariance sigma^2 (X^T X)^-1; the errors' sums of squares in
-// the recorded effort's units (`gain`: X's actuator-gain columns).
+// rank-deficient fit, which is reported as not ok); the errors' sums of
+// squares in the recorded effort's units (`gain`: X's actuator-gain columns).
+// The covariance takes each joint's residual variance from its own rows
+// (rows stacked sample-major, `joints` per sample): (X^T X)^-1 (sum_a
+// sigma_a^2 X_a^T X_a) (X^T X)^-1. The rows are weighted by each joint's
+// effort RMS, not its noise, so the joints' weighted noise differs as soon
+// as a record moves one joint harder than another; one pooled variance then
+// lends a quiet joint's parameters the noise of a loud one (an elbow's
+// armature along a motion that drives the shoulder hard came out 1.3x too
+// uncertain, the shoulder's damping as much too sure). With equal
+// variances this is sigma^2 (X^T X)^-1.
 Fit least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Eigen::MatrixXd& Xv,
-                  const Eigen::VectorXd& yv, const std::vector<char>& gain = {}) {
+                  const Eigen::VectorXd& yv, Eigen::Index joints, const std::vector<char>& gain = {}) {
     Fit f;
     if (X.cols() == 0) {
         f.theta.resize(0);
@@ -54,14 +62,30 @@ Fit least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Eige
     if (qr.rank() < X.cols()) return f;
     f.theta = qr.solve(y);
     Eigen::VectorXd r = y - X * f.theta, rv = yv - Xv * f.theta;
+    const Eigen::VectorXd linear = r;
     const double linear_sse = r.squaredNorm();
     to_recorded_units(r, X, f.theta, gain);
     to_recorded_units(rv, Xv, f.theta, gain);
     f.sse_fit = r.squaredNorm();
     f.sse_validation = rv.squaredNorm();
-    const double dof = std::max(1.0, double(X.rows() - X.cols()));
     const Eigen::MatrixXd XtX = X.transpose() * X;
-    f.covariance = (linear_sse / dof) * XtX.ldlt().solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
+    const Eigen::MatrixXd inverse = XtX.ldlt().solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
+    // Each joint's rows keep their share of the degrees of freedom.
+    const double keep = std::max(1.0, double(X.rows() - X.cols())) / double(X.rows());
+    Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(X.cols(), X.cols());
+    const Eigen::Index A = std::max<Eigen::Index>(1, joints);
+    if (A == 1 || X.rows() % A != 0) {
+        spread = (linear_sse / (keep * double(X.rows()))) * XtX;
+    } else {
+        const Eigen::Index samples = X.rows() / A;
+        using Rows = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+        for (Eigen::Index a = 0; a < A; ++a) {
+            const Rows Xa(X.data() + a, samples, X.cols(), Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(X.rows(), A));
+            const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> ra(linear.data() + a, samples, Eigen::InnerStride<>(A));
+            spread.noalias() += (ra.squaredNorm() / (keep * double(samples))) * (Xa.transpose() * Xa);
+        }
+    }
+    f.covariance = inverse * spread * inverse;
     f.ok = f.theta.allFinite();
     return f;
 }
@@ -93,6 +117,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                         const IdentifyOptions& options) {
     Identification out;
     const Eigen::VectorXd y = fit.y(), yv = validation.y();
+    const Eigen::Index joints = Eigen::Index(fit.actuated.size());
     const Eigen::VectorXd meas = fit.measured(), meas_v = validation.measured();
     out.baseline_fit_error = percent(y.squaredNorm(), meas);
     out.baseline_validation_error = percent(yv.squaredNorm(), meas_v);
@@ -110,7 +135,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         g.resize(X_gain.size() + size_t(cols[k].cols()), candidates[k].kind().id == CauseId::ActuatorGain);
         return g;
     };
-    Fit current = least_squares(X, y, Xv, yv);
+    Fit current = least_squares(X, y, Xv, yv, joints);
     std::vector<size_t> refused;  // candidates the data could not tell from a named one
     std::map<size_t, std::string> carried_with;  // a named candidate: the group's others, in words
     auto taken = [&](const Candidate& c) {
@@ -146,7 +171,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 if (c.kind().refinement != Refinement::GridAndSpeeds || taken(c)) continue;
                 Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
                 X2 << X, cols[k];
-                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0), with_gain(k));
+                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0), joints, with_gain(k));
                 if (f.ok && f.sse_fit < best_sse[size_t(c.dof)]) best_sse[size_t(c.dof)] = f.sse_fit, best_at[size_t(c.dof)] = int(k);
             }
             for (int k : best_at)
@@ -178,7 +203,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
                 X2 << X, ck;
                 Xv2 << Xv, cvk;
-                return least_squares(X2, y, Xv2, yv, with_gain(k));
+                return least_squares(X2, y, Xv2, yv, joints, with_gain(k));
             };
             Fit f = fit_with(cols[k], cols_v[k]);
             if (!f.ok) continue;
@@ -422,7 +447,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                         Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
                     X2 << X, cols[size_t(best)];
                     Xv2 << Xv, cols_v[size_t(best)];
-                    best_fit = least_squares(X2, y, Xv2, yv, with_gain(size_t(best)));
+                    best_fit = least_squares(X2, y, Xv2, yv, joints, with_gain(size_t(best)));
                     if (!best_fit.ok) break;
                 }
             }

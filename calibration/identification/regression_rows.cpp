@@ -248,7 +248,8 @@ std::vector<double> effort_weights(const RegressionRows& rows) {
     return weight;
 }
 
-void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& kept, RegressionRows& rows) {
+void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& kept, RegressionRows& rows,
+               unsigned parts) {
     const size_t na = rows.actuated.size();
     std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
     for (size_t a = 0; a < na; ++a)
@@ -259,11 +260,12 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
     const Eigen::Index S = rows.samples, A = Eigen::Index(na);
     rows.q.resize(S, m.nq), rows.qd.resize(S, m.nv), rows.qdd.resize(S, m.nv);
     rows.effort.resize(S, A), rows.effort_rate.resize(S, A), rows.model_effort.resize(S, A);
-    rows.effort_by_position.assign(size_t(m.nv), Eigen::MatrixXd::Zero(S, A));
+    const bool positions = parts & kPositionSensitivity, gravity = parts & kGravityShares, inertial = parts & kInertialRegressor;
+    rows.effort_by_position.assign(positions ? size_t(m.nv) : 0, Eigen::MatrixXd::Zero(S, A));
     rows.effort_by_position2 = rows.effort_by_position;
-    rows.inertial_regressor.assign(size_t(m.body_count()), Eigen::MatrixXd::Zero(S * A, kInertialParameters));
+    rows.inertial_regressor.assign(inertial ? size_t(m.body_count()) : 0, Eigen::MatrixXd::Zero(S * A, kInertialParameters));
     rows.gravity = m.gravity;
-    rows.effort_by_gravity.assign(3, Eigen::MatrixXd::Zero(S, A));
+    rows.effort_by_gravity.assign(gravity ? 3 : 0, Eigen::MatrixXd::Zero(S, A));
     sim::Model held = m;  // its gravity set to each world axis in turn
     sim::Data d(m), probe(m), unit_data(unit), held_data(held);
     // The actuated efforts the model needs at a sample (positions in dd.q,
@@ -285,6 +287,14 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
         }
     };
     Eigen::VectorXd base, moved, moved_back;
+    std::vector<sim::Inertia<double>> unit_inertia;
+    for (int k = 0; k < kInertialParameters; ++k)
+        unit_inertia.push_back(inertia_of_parameters(Eigen::Matrix<double, kInertialParameters, 1>::Unit(k)));
+    std::vector<int> actuated_of_dof(size_t(m.nv), -1);
+    for (size_t a = 0; a < na; ++a) actuated_of_dof[size_t(rows.actuated[a])] = int(a);
+    Eigen::Matrix<double, 6, kInertialParameters> forces;
+    const std::vector<int> none, &probed = positions ? chain.independent : none;
+    Eigen::MatrixXd joint_share;
     for (Eigen::Index s = 0; s < S; ++s) {
         const RowSample& x = kept[size_t(s)];
         // Dependent positions start from the last sample's (or the assembly pose at a record's start).
@@ -305,7 +315,7 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
         // Central differences: the second derivative makes a sensor offset's
         // column exact to second order (its quadratic part would otherwise
         // be left for another cause).
-        for (int dof : chain.independent) {
+        for (int dof : probed) {
             const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
             const double h = 1e-4 * std::max(1.0, std::abs(x.q[qi]));
             for (int side : {1, -1}) {
@@ -319,32 +329,53 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
             rows.effort_by_position2[size_t(dof)].row(s) = ((moved - 2 * base + moved_back) / (h * h)).transpose();
         }
         // The efforts that hold the bodies against a unit gravity along each axis.
-        held_data.q = q_full, held_data.v.setZero();
-        sim::update_kinematics(held, held_data);
+        if (gravity) {
+            held_data.q = q_full, held_data.v.setZero();
+            sim::update_kinematics(held, held_data);
+        }
         const Eigen::VectorXd still = Eigen::VectorXd::Zero(m.nv);
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < (gravity ? 3 : 0); ++k) {
             held.gravity = Eigen::Vector3d::Unit(k);
             sim::inverse_dynamics(held, held_data, still, tau);
             const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
             for (Eigen::Index a = 0; a < A; ++a)
                 rows.effort_by_gravity[size_t(k)](s, a) = share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
         }
-        // Inverse dynamics is linear in each body's inertial parameters:
-        // one pass per body and unit parameter (kinematics shared).
+        // Inverse dynamics is linear in each body's inertial parameters: a
+        // body's force is Y(acc, vel) times its ten parameters, and reaches
+        // every joint between it and the ground through the force
+        // transforms alone. One pass of the unit (inertia-free) model gives
+        // every body's acceleration; a body's ten columns then cost its
+        // depth, not another inverse dynamics per parameter.
+        if (!inertial) continue;
         unit_data.q = q_full, unit_data.v = qd_full;
         sim::update_kinematics(unit, unit_data);
+        sim::inverse_dynamics(unit, unit_data, qdd_full, tau);
         for (int b = 1; b < m.body_count(); ++b) {
             if (!(m.bodies[size_t(b)].inertia.mass > 0)) continue;  // massless CAD joint nodes
-            for (int k = 0; k < kInertialParameters; ++k) {
-                unit.bodies[size_t(b)].inertia =
-                    inertia_of_parameters(Eigen::Matrix<double, kInertialParameters, 1>::Unit(k));
-                sim::inverse_dynamics(unit, unit_data, qdd_full, tau);
-                const Eigen::VectorXd share = chain.active() ? Eigen::VectorXd(G_here.transpose() * tau) : tau;
-                for (Eigen::Index a = 0; a < A; ++a)
-                    rows.inertial_regressor[size_t(b)](s * A + a, k) =
-                        share[chain.active() ? actuated_at[size_t(a)] : rows.actuated[size_t(a)]];
+            const sim::Vec6T<double>& acc = unit_data.acc[size_t(b)];
+            const sim::Vec6T<double>& vel = unit_data.vel[size_t(b)];
+            for (int k = 0; k < kInertialParameters; ++k) forces.col(k) = unit_inertia[size_t(k)] * acc + sim::cross_force<double>(vel, unit_inertia[size_t(k)] * vel);
+            Eigen::MatrixXd& R = rows.inertial_regressor[size_t(b)];
+            if (chain.active()) joint_share.setZero(m.nv, kInertialParameters);
+            for (size_t c = size_t(b); c > 0; c = size_t(m.bodies[c].parent)) {
+                const sim::JointT<double>& jc = m.joints[c - 1];
+                for (int i = 0; i < jc.nv(); ++i) {
+                    const int dof = jc.v_index + i;
+                    if (chain.active()) {
+                        joint_share.row(dof) = unit_data.subspace[c].col(i).transpose() * forces;
+                    } else if (actuated_of_dof[size_t(dof)] >= 0) {
+                        R.row(s * A + actuated_of_dof[size_t(dof)]) = unit_data.subspace[c].col(i).transpose() * forces;
+                    }
+                }
+                if (m.bodies[c].parent > 0)
+                    for (int k = 0; k < kInertialParameters; ++k)
+                        forces.col(k) = unit_data.x_parent[c].force_to_parent(sim::Vec6T<double>(forces.col(k)));
             }
-            unit.bodies[size_t(b)].inertia = sim::Inertia<double>();
+            if (chain.active()) {
+                const Eigen::MatrixXd share = G_here.transpose() * joint_share;
+                for (Eigen::Index a = 0; a < A; ++a) R.row(s * A + a) = share.row(actuated_at[size_t(a)]);
+            }
         }
     }
 }

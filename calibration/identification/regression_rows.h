@@ -119,10 +119,20 @@ struct RowSample {
 
 struct ClosedChain;
 
+// The parts of the rows beyond the model's efforts, each costing passes of
+// inverse dynamics per sample (a cause's kind says which its columns read:
+// CauseKind::row_parts); a part left out stays empty.
+enum RowPart : unsigned {
+    kPositionSensitivity = 1,  // effort_by_position(2): two passes per measured coordinate
+    kGravityShares = 2,        // effort_by_gravity: three passes
+    kInertialRegressor = 4,    // inertial_regressor: one pass and each body's depth
+    kAllRowParts = 7,
+};
+
 // The rows at `samples` (rows.actuated set): the loops closed, the model's
-// efforts, their sensitivities and the inertial and gravity regressors;
-// rows.weight is left as it is.
-void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& samples, RegressionRows& rows);
+// efforts and the `parts` asked for; rows.weight is left as it is.
+void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& samples, RegressionRows& rows,
+               unsigned parts = kAllRowParts);
 
 // Per actuated coordinate 1 / RMS of rows.effort: each joint weighs by its
 // own effort level, so a joint in N and one in N m count alike.

@@ -164,6 +164,14 @@ std::string excitation_json(const sim::Model& m, const ExcitationDesign& d, cons
         w.member("acceleration", L.acceleration).member("effort", L.effort);
         if (i < r.limit_sources.size()) w.member("source", r.limit_sources[i]);
         w.end_object();
+        // The servo the design assumed follows the reference ("reached" is its motion).
+        if (i < r.options.servo.size() && r.options.servo[i].stiffness > 0 && i < d.servo_inertia.size()) {
+            const ExcitationServo& sv = r.options.servo[i];
+            w.key("servo").begin_object(JsonWriter::Layout::Inline);
+            w.member("stiffness", sv.stiffness).member("damping", sv.damping);
+            w.member("damping_on", sv.damping_on_error ? "error" : "speed").member("inertia", d.servo_inertia[i]);
+            w.end_object();
+        }
         w.key("reached").begin_object(JsonWriter::Layout::Inline);
         w.member("lowest", d.lowest[i]).member("highest", d.highest[i]).member("velocity", d.peak_velocity[i]);
         w.member("acceleration", d.peak_acceleration[i]).member("effort", d.peak_effort[i]);

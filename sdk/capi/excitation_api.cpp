@@ -206,6 +206,7 @@ MBX_API mbx_status mbx_excite(mbx_context* context, const mbx_mechanism* mechani
         std::vector<ExcitationLimits> limits;
         std::vector<std::string> sources;
         std::vector<char> overridden(o.limit_count, 0);
+        std::vector<ExcitationServo> servos;
         for (int j : joints) {
             const sim::JointT<double>& joint = m.joints[size_t(j)];
             dofs.push_back(joint.v_index);
@@ -219,10 +220,17 @@ MBX_API mbx_status mbx_excite(mbx_context* context, const mbx_mechanism* mechani
                 if (p->velocity_limit > 0) L.velocity = p->velocity_limit, from.push_back("speed: rated");
                 if (p->effort_limit > 0) L.effort = p->effort_limit, from.push_back("effort: rated");
             }
+            ExcitationServo servo;
             if (const Drive* d = drive_of(joint)) {
                 if (d->velocity_limit > 0 && d->velocity_limit < L.velocity) L.velocity = d->velocity_limit, from.push_back("speed: drive");
                 if (d->effort_limit > 0 && d->effort_limit < L.effort) L.effort = d->effort_limit, from.push_back("effort: drive");
+                // The drive's controller as the servo that will follow the
+                // reference (kd and a velocity loop act on the measured speed,
+                // the back-EMF brakes it).
+                servo.stiffness = d->servo.stiffness, servo.damping = d->servo.damping + d->servo.emf_damping;
+                if (servo.stiffness > 0) from.push_back("servo: drive");
             }
+            servos.push_back(servo);
             if (o.acceleration_limit > 0) L.acceleration = o.acceleration_limit, from.push_back("acceleration: option");
             for (uint32_t k = 0; k < o.limit_count; ++k) {
                 const mbx_joint_limits& given = o.limits[k];
@@ -248,6 +256,8 @@ MBX_API mbx_status mbx_excite(mbx_context* context, const mbx_mechanism* mechani
         for (uint32_t k = 0; k < o.limit_count; ++k)
             if (!overridden[k]) bad_input(std::string("limits for '") + o.limits[k].joint + "': not a joint designed for");
 
+        for (const ExcitationServo& sv : servos)
+            if (sv.stiffness > 0) eo.servo = servos;
         handle->design = design_excitation(m, dofs, limits, eo);
         handle->report.limits = limits;
         handle->report.limit_sources = sources;

@@ -19,6 +19,7 @@
 #include <doctest/doctest.h>
 
 #include "adapter_test_support.h"
+#include "core/report/json_value.h"
 #include "cli_support.h"
 #include "tests/common/near.h"
 #include "tests/common/shared_data.h"
@@ -154,6 +155,59 @@ TEST_CASE("cli excite: a calibration.json's named cause and ambiguous group are 
     CHECK(r.out.find("coulomb_friction") == std::string::npos);
     CHECK(r.out.find(" / 0.02\n") != std::string::npos);
     CHECK(r.out.find("limits from option") != std::string::npos);
+}
+
+// The EMPS rig's drive (samples/mechatronics/emps_axis_drives.xml): a P
+// position loop (kp 160.18 1/s) inside a P velocity loop (kv 243.45 V/(m/s))
+// into a current amplifier, 35.15 N/V at the carriage, the rig's published
+// figures. At the joint that is a servo of stiffness kp kv 35.15 N/m and
+// damping kv 35.15 N s/m on the measured speed; the design follows it, says
+// so, and keeps the limits on the motion it predicts as on the reference.
+TEST_CASE("cli excite: a drive's controller is the servo the EMPS design follows, its motion within the limits") {
+    atest::TempDir dir("mbx_cli_excite_emps");
+    const std::string samples = MBX_SAMPLES_DIR, out = dir.file("out");
+    const double acceleration = 5, margin = 0.1;
+    const Run r = run_cli(dir, "excite '" + samples + "/emps_axis/emps_axis.xml' --drives '" + samples +
+                                   "/mechatronics/emps_axis_drives.xml' -o '" + out +
+                                   "' --acceleration-limit 5 --limit BED--CARRIAGE=0:0.2::: --margin 0.1 --period 4 "
+                                   "--harmonics 6 --periods 2 --evaluations 120");
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("servo: drive") != std::string::npos);
+    std::ifstream in(out + "/excitation.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    const mbx::JsonValue json = mbx::parse_json(text.str());
+    const mbx::JsonValue* joints = json.find("joints");
+    REQUIRE(joints);
+    REQUIRE(joints->array.size() == 1);
+    const mbx::JsonValue& joint = joints->array[0];
+    const mbx::JsonValue* servo = joint.find("servo");
+    REQUIRE(servo);
+    const double gtau = 35.15;
+    CHECK(servo->find("stiffness")->number == mbx_test::relative(160.18 * 243.45 * gtau, 1e-3));
+    CHECK(servo->find("damping")->number == mbx_test::relative(243.45 * gtau, 1e-3));
+    CHECK(servo->find("damping_on")->string == "speed");
+    CHECK(servo->find("inertia")->number > 0);
+    // The predicted motion and the written reference both within the limits less the margin.
+    const mbx::JsonValue* limits = joint.find("limits");
+    const mbx::JsonValue* reached = joint.find("reached");
+    REQUIRE(limits);
+    REQUIRE(reached);
+    const double speed = limits->find("velocity")->number, room = margin * 0.2;
+    CHECK(reached->find("highest")->number <= 0.2 - room + 1e-9);
+    CHECK(reached->find("lowest")->number >= room - 1e-9);
+    CHECK(reached->find("velocity")->number <= (1 - margin) * speed * (1 + 1e-9));
+    CHECK(reached->find("acceleration")->number <= (1 - margin) * acceleration * (1 + 1e-9));
+    const Csv csv = read_csv(out + "/excitation.csv");
+    const int q = csv.column("BED__CARRIAGE_ref"), qd = csv.column("BED__CARRIAGE_ref_velocity");
+    REQUIRE(q > 0);
+    REQUIRE(qd > 0);
+    for (const std::vector<double>& row : csv.rows) {
+        CHECK(row[size_t(q)] <= 0.2 - room + 1e-9);
+        CHECK(row[size_t(q)] >= room - 1e-9);
+        CHECK(std::abs(row[size_t(qd)]) <= (1 - margin) * speed * (1 + 1e-9));
+    }
 }
 
 TEST_CASE("cli excite: bad options, joints, causes and files exit non-zero with the fault named and nothing written") {

@@ -507,6 +507,7 @@ GeneratedCase generate_case(const CaseSpec& spec, const std::string& out_dir, st
         kp[i] = J * w * w;
         kd[i] = 2 * 0.8 * J * w;
     }
+    out.controller_kp = kp, out.controller_kd = kd;
 
     Rng rng(0x9e3779b97f4a7c15ULL ^ (uint64_t(spec.seed) * 0x100000001b3ULL));
     // Excitation (drawn first so a case's motion does not depend on its effects' draws).

@@ -76,6 +76,9 @@ struct GeneratedCase {
     std::string fit_csv, validation_csv;
     std::vector<std::string> joint_ids, joint_names;  // the actuated joints, in column order
     std::vector<std::string> column_stems;  // per actuated joint: columns "<stem>.q" and "<stem>.effort"
+    // Per actuated joint the PD that follows the references: effort
+    // kp (r - q) + kd (r' - q') (before a hidden actuator gain).
+    std::vector<double> controller_kp, controller_kd;
 };
 
 // MuJoCo's motion along one record, in mbx's coordinates (sim::build_model of

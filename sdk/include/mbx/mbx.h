@@ -1097,7 +1097,7 @@ typedef struct mbx_excite_options {
     double cutoff;             /* Hz of the records' filter; 0: sample_rate / 40 */
     double noise_share;        /* effort noise as a share of each effort limit; 0: 0.01 */
     double acceleration_limit; /* for every joint without one (rad/s^2 or m/s^2); 0: none */
-    uint32_t evaluations;      /* of the criterion by the search; 0: 600 */
+    uint32_t evaluations;      /* of the criterion by the search; 0: 2400 */
     uint32_t seed;             /* 0: 1 */
     /* Causes to make identifiable: catalogue names (each on every subject),
      * or "cause on subject" as calibration.json writes them ("armature on
