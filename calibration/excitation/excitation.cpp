@@ -151,15 +151,20 @@ PredictedErrors predict_errors(const RegressionRows& motion, const std::vector<C
     const Eigen::VectorXd norms = X.colwise().norm().transpose();
     if (!(norms.minCoeff() > 0)) return out;
     const Eigen::MatrixXd Xn = X * norms.cwiseInverse().asDiagonal();
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Xn, Eigen::ComputeThinV);
-    const Eigen::VectorXd sv = svd.singularValues();
-    if (!(sv.minCoeff() > 1e-8 * sv.maxCoeff())) return out;
-    // diag((Xn^T Xn)^-1) from the SVD: sum_k V_jk^2 / s_k^2.
-    const Eigen::MatrixXd V = svd.matrixV();
-    for (Eigen::Index j = 0; j < np; ++j) {
-        double d = 0;
-        for (Eigen::Index k = 0; k < sv.size(); ++k) d += V(j, k) * V(j, k) / (sv[k] * sv[k]);
-        out.std_error[j] = std::sqrt(d / scale) / norms[j];
+    // Xn P = Q R: (Xn^T Xn)^-1 = P R^-1 R^-T P^T, whose diagonal is the
+    // squared rows of R^-1. (A Jacobi SVD, the same numbers, was a fifth of
+    // the design's time on the 7-DoF chain.) Columns too alike to tell
+    // apart leave R's last pivots below 1e-8 of its first.
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Xn);
+    const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(np, np).triangularView<Eigen::Upper>();
+    const double first = std::abs(R(0, 0));
+    for (Eigen::Index k = 0; k < np; ++k)
+        if (!(std::abs(R(k, k)) > 1e-8 * first)) return out;
+    const Eigen::MatrixXd Rinv =
+        R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(np, np));
+    for (Eigen::Index k = 0; k < np; ++k) {
+        const Eigen::Index j = qr.colsPermutation().indices()[k];
+        out.std_error[j] = std::sqrt(Rinv.row(k).squaredNorm() / scale) / norms[j];
     }
     out.criterion = out.std_error.array().log10().mean();
     return out;
@@ -277,14 +282,46 @@ struct Problem {
         return q;
     }
 
+    // sin(l w t) and cos(l w t) at `times` (samples x harmonics): every
+    // motion the search tries is sampled at the same times, so the motions
+    // are products with these (the sines were a seventh of the design's time).
+    Eigen::MatrixXd sines, cosines;
+    void set_times(std::vector<double> t) {
+        times = std::move(t);
+        const Eigen::Index n = Eigen::Index(times.size()), N = o.harmonics;
+        // (the final check's grid can be long: there each sample is evaluated
+        // as it goes rather than held, 2 x 8 bytes per sample and harmonic)
+        if (double(n) * double(N) > 1e6) {
+            sines.resize(0, 0), cosines.resize(0, 0);
+            return;
+        }
+        sines.resize(n, N), cosines.resize(n, N);
+        for (Eigen::Index k = 0; k < n; ++k)
+            for (Eigen::Index l = 0; l < N; ++l) {
+                const double phase = double(l + 1) * 2 * M_PI / o.period * times[size_t(k)];
+                sines(k, l) = std::sin(phase), cosines(k, l) = std::cos(phase);
+            }
+    }
+
     SampledMotion motion(const std::vector<FourierReference>& r) const {
         SampledMotion mo;
         mo.t = times;
-        const Eigen::Index n = Eigen::Index(times.size()), d = Eigen::Index(dofs.size());
+        const Eigen::Index n = Eigen::Index(times.size()), d = Eigen::Index(dofs.size()), N = o.harmonics;
         mo.q.resize(n, d), mo.qd.resize(n, d), mo.qdd.resize(n, d);
-        for (Eigen::Index k = 0; k < n; ++k)
-            for (Eigen::Index i = 0; i < d; ++i)
-                r[size_t(i)].at(times[size_t(k)], o.period, mo.q(k, i), mo.qd(k, i), mo.qdd(k, i));
+        if (sines.rows() != n) {
+            for (Eigen::Index k = 0; k < n; ++k)
+                for (Eigen::Index i = 0; i < d; ++i)
+                    r[size_t(i)].at(times[size_t(k)], o.period, mo.q(k, i), mo.qd(k, i), mo.qdd(k, i));
+            return mo;
+        }
+        Eigen::VectorXd lw(N);
+        for (Eigen::Index l = 0; l < N; ++l) lw[l] = double(l + 1) * 2 * M_PI / o.period;
+        for (Eigen::Index i = 0; i < d; ++i) {
+            const Eigen::Map<const Eigen::VectorXd> a(r[size_t(i)].a.data(), N), b(r[size_t(i)].b.data(), N);
+            mo.q.col(i) = (sines * a + cosines * b).array() + (r[size_t(i)].q0 - b.sum());
+            mo.qd.col(i) = cosines * lw.cwiseProduct(a) - sines * lw.cwiseProduct(b);
+            mo.qdd.col(i) = -(sines * lw.cwiseAbs2().cwiseProduct(a) + cosines * lw.cwiseAbs2().cwiseProduct(b));
+        }
         return mo;
     }
 
@@ -433,7 +470,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     for (int dof : dofs)
         if (dof < 0 || dof >= m.nv) refuse("a coordinate is not the model's");
 
-    Problem p{m, dofs, limits, o, {}, {}, nullptr, {}, std::make_shared<sim::Data>(m), kAllRowParts, {}};
+    Problem p{m, dofs, limits, o, {}, {}, nullptr, {}, std::make_shared<sim::Data>(m), kAllRowParts, {}, {}, {}};
     {
         p.chain = std::make_shared<ClosedChain>(chain_of(m, dofs));
         for (int dof : dofs)
@@ -482,7 +519,11 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     const double rows_per_second = o.sample_rate / std::max(1.0, std::floor(o.sample_rate / (4 * fc)));
     if (o.harmonics / o.period > fc / 2)
         refuse("the highest harmonic (" + std::to_string(o.harmonics / o.period) + " Hz) is above half the records' filter cutoff");
-    for (int k = 0; k < o.samples_per_period; ++k) p.times.push_back(o.period * k / o.samples_per_period);
+    {
+        std::vector<double> times;
+        for (int k = 0; k < o.samples_per_period; ++k) times.push_back(o.period * k / o.samples_per_period);
+        p.set_times(std::move(times));
+    }
 
     // The rows of a first motion only to find the candidates (their columns
     // do not depend on it).
@@ -615,9 +656,10 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     // may reach a little further between the search's points.
     {
         Problem fine = p;
-        fine.times.clear();
+        std::vector<double> times;
         const int n = int(std::min(2e6, std::max(20.0 * o.samples_per_period, std::ceil(o.sample_rate * o.period))));
-        for (int k = 0; k <= n; ++k) fine.times.push_back(o.period * k / n);
+        for (int k = 0; k <= n; ++k) times.push_back(o.period * k / n);
+        fine.set_times(std::move(times));
         Problem::Evaluated e = fine.at_limits(best_x);
         if (!e.ok) refuse("the designed motion cannot be scaled within the limits");
         best.s = e.s * (1 - 1e-9);  // (a motion that touches a limit stays on its side when rounded)
