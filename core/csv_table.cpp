@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/input_file.h"
+
 namespace mbx {
 
 namespace {
@@ -31,11 +33,9 @@ int CsvTable::column(const std::string& name) const {
 }
 
 CsvTable read_csv_table(const std::string& path, const Subject& subject) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw Error(MBX_ERROR_IO, subject, "cannot read the record '" + path + "'", path);
-    std::ostringstream text;
-    text << file.rdbuf();
-    return read_csv_table_text(text.str(), path, subject);
+    std::string text, why;
+    if (!read_input_file(path, text, why)) throw Error(MBX_ERROR_IO, subject, "cannot read the record '" + path + "': " + why, path);
+    return read_csv_table_text(text, path, subject);
 }
 
 CsvTable read_csv_table_text(const std::string& text, const std::string& path, const Subject& subject) {

@@ -220,8 +220,9 @@ std::string calibrated_description(const Mechanism& mechanism, const sim::Model&
     pugi::xml_node root;
     if (described) {
         std::string text;
-        if (!read_text_file(input, text))
-            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(""), "cannot read the description file '" + input + "'",
+        std::string why;
+        if (!read_text_file(input, text, &why))
+            throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(""), "cannot read the description file '" + input + "': " + why,
                         input);
         const XmlLines lines(text);
         const pugi::xml_parse_result parsed =

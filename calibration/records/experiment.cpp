@@ -387,8 +387,9 @@ Experiment parse_experiment(const std::string& text, const std::string& path) { 
 
 Experiment load_experiment(const std::string& path) {
     std::string text;
-    if (!read_text_file(path, text))
-        throw Error(MBX_ERROR_IO, Subject::model("experiment"), "cannot read the experiment file '" + path + "'", path);
+    std::string why;
+    if (!read_text_file(path, text, &why))
+        throw Error(MBX_ERROR_IO, Subject::model("experiment"), "cannot read the experiment file '" + path + "': " + why, path);
     return parse_experiment(text, path);
 }
 

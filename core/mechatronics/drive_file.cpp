@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <stdexcept>
 
+#include "core/input_file.h"
 #include "core/mechatronics/xml_text.h"
 
 namespace mbx {
@@ -131,8 +132,8 @@ private:
             return;
         }
         const std::string full = path[0] == '/' || base_dir_.empty() ? path : base_dir_ + "/" + path;
-        if (!std::ifstream(full)) {
-            error(n, "", "cannot open the object library '" + full + "'");
+        if (const std::string why = input_file_problem(full); !why.empty()) {
+            error(n, "", "cannot read the object library '" + full + "': " + why);
             return;
         }
         spec_.library.load_file(full);
@@ -433,8 +434,9 @@ void load_drive_text(const std::string& text, const std::string& file, const std
 
 void load_drive_file(const std::string& path, MechatronicSpec& spec, std::vector<DriveError>& errors) {
     std::string text;
-    if (!read_text_file(path, text)) {
-        errors.push_back({path, 0, "", "cannot open the drive description"});
+    std::string why;
+    if (!read_text_file(path, text, &why)) {
+        errors.push_back({path, 0, "", "cannot read the drive description: " + why});
         return;
     }
     const size_t slash = path.find_last_of('/');

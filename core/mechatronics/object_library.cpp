@@ -72,9 +72,9 @@ std::string LibraryError::text() const {
 }
 
 bool ObjectLibrary::load_file(const std::string& path) {
-    std::string text;
-    if (!read_text_file(path, text)) {
-        errors_.push_back({path, 0, "", "cannot open the library file"});
+    std::string text, why;
+    if (!read_text_file(path, text, &why)) {
+        errors_.push_back({path, 0, "", "cannot read the library file: " + why});
         return false;
     }
     std::error_code ec;

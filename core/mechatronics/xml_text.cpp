@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/input_file.h"
+
 namespace mbx {
 
 bool parse_xml_number(const std::string& text, double& out) {
@@ -49,13 +51,11 @@ int XmlLines::line_at(ptrdiff_t offset) const {
 
 int XmlLines::line(const pugi::xml_node& n) const { return line_at(n.offset_debug()); }
 
-bool read_text_file(const std::string& path, std::string& out) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    std::ostringstream s;
-    s << in.rdbuf();
-    out = s.str();
-    return true;
+bool read_text_file(const std::string& path, std::string& out, std::string* why) {
+    std::string reason;
+    const bool ok = read_input_file(path, out, reason);
+    if (why) *why = reason;
+    return ok;
 }
 
 }  // namespace mbx

@@ -26,7 +26,8 @@ private:
     std::vector<size_t> newlines_;
 };
 
-// Reads a whole file; false when it cannot be opened.
-bool read_text_file(const std::string& path, std::string& out);
+// Reads a whole file (core/input_file.h: a regular file within the input
+// limit); false when it cannot, with the reason in `why` when given.
+bool read_text_file(const std::string& path, std::string& out, std::string* why = nullptr);
 
 }  // namespace mbx

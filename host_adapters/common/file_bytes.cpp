@@ -5,15 +5,14 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/input_file.h"
 #include "host_adapters/common/file_error.h"
 
 namespace mbx_files {
 
 FileBytes read_file_bytes(const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw FileError(path, 0,
-                        std::filesystem::exists(path, ec) ? "cannot read it: not a regular file" : "no such file");
+    if (const std::string why = mbx::input_file_problem(path); !why.empty()) throw FileError(path, 0, why);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path, 0, std::string("cannot open the file: ") + std::strerror(errno));
     const uintmax_t size = std::filesystem::file_size(path, ec);

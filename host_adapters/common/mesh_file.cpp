@@ -1,4 +1,5 @@
 #include "mesh_file.h"
+#include "core/input_file.h"
 #include "host_adapters/common/text.h"
 #include "host_adapters/step/assembly.h"
 #include "host_adapters/step/tessellate.h"
@@ -88,6 +89,8 @@ std::string MeshFileFinder::find(const std::string& name) {
 }
 
 bool probe_mesh_file(const std::string& path, std::string& why) {
+    why = mbx::input_file_problem(path);
+    if (!why.empty()) return false;
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         why = std::string("cannot open it: ") + std::strerror(errno);

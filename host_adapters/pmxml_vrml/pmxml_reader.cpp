@@ -17,6 +17,7 @@
 
 #include <pugixml.hpp>
 
+#include "core/input_file.h"
 #include "host_adapters/common/line_index.h"
 #include "host_adapters/common/numbers.h"
 #include "pmxml_outline.h"
@@ -842,8 +843,7 @@ PmxmlModel parse_pmxml(std::string_view text, const std::string& file, PmxmlPars
 }
 
 PmxmlModel read_pmxml(const std::string& path, PmxmlParse how, PmxmlParse* used) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw FileError(path, 0, "cannot open the file: it is a directory");
+    if (const std::string why = mbx::input_file_problem(path); !why.empty()) throw FileError(path, 0, why);
     if (how != PmxmlParse::whole_dom) {
         MappedFile mapped;
         if (mapped.map(path)) {

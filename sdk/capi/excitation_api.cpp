@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "calibration/outputs/excitation_files.h"
+#include "core/input_file.h"
 #include "core/report/json_value.h"
 #include "sdk/capi/build_options_of.h"
 #include "sdk/capi/guard.h"
@@ -54,14 +55,8 @@ CalibrationAsk read_calibration_json(const std::string& path) {
         file_error(MBX_ERROR_INVALID_INPUT, path, "is " + std::to_string(bytes >> 20) + " MB, more than the 64 MB a calibration.json may have");
     std::string text;
     {
-        std::error_code regular_ec;
-        if (!std::filesystem::is_regular_file(path, regular_ec))
-            file_error(MBX_ERROR_IO, path, "is not a regular file (the calibration.json of mbx calibrate)");
-        std::ifstream in(path, std::ios::binary);
-        if (!in) file_error(MBX_ERROR_IO, path, "cannot be opened");
-        std::ostringstream os;
-        os << in.rdbuf();
-        text = os.str();
+        std::string why;
+        if (!read_input_file(path, text, why)) file_error(MBX_ERROR_IO, path, "cannot be read (the calibration.json of mbx calibrate): " + why);
     }
     JsonValue root;
     try {

@@ -180,7 +180,7 @@ TEST_CASE("drive file: every problem is an error naming file, line and drive") {
     expect_file_error("<mechatronics version=\"2\">\n</mechatronics>\n", 1, "unsupported version '2'");
     expect_file_error("<mechatronics>\n<library/>\n</mechatronics>\n", 2, "needs a file attribute");
     expect_file_error("<mechatronics>\n<library file=\"/no/such/lib.xml\"/>\n</mechatronics>\n", 2,
-                      "cannot open the object library '/no/such/lib.xml'");
+                      "cannot read the object library '/no/such/lib.xml': cannot open it: no such file");
 
     // A second drive for the same joint names the first one's line.
     const std::string drive = "<drive constraint=\"R1\" motor=\"" + kKrs + "\">" + kController + "</drive>\n";
