@@ -1,6 +1,7 @@
 #include "core/report/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -33,6 +34,38 @@ std::string unique_sibling(const std::string& path) {
 }
 
 constexpr int kNameAttempts = 100;
+
+// The pid of `name` if it is one of unique_sibling's ("<file>.tmp.<pid>.<n>"), else 0.
+long temporary_owner(const std::string& name) {
+    const size_t counter_dot = name.rfind('.');
+    if (counter_dot == std::string::npos || counter_dot + 1 == name.size()) return 0;
+    const size_t pid_dot = name.rfind('.', counter_dot - 1);
+    if (pid_dot == std::string::npos || pid_dot < 4 || name.compare(pid_dot - 4, 4, ".tmp") != 0) return 0;
+    auto digits = [&](size_t from, size_t to) {
+        if (from >= to || to - from > 18) return false;
+        for (size_t i = from; i < to; ++i)
+            if (name[i] < '0' || name[i] > '9') return false;
+        return true;
+    };
+    if (!digits(pid_dot + 1, counter_dot) || !digits(counter_dot + 1, name.size())) return 0;
+    return std::stol(name.substr(pid_dot + 1, counter_dot - pid_dot - 1));
+}
+
+// Removes from `dir` the temporaries (and backups) of writers that died
+// before renaming them: a run killed mid-export leaves its `*.tmp.<pid>.<n>`
+// files, and the next run into the folder takes them away. Only those whose
+// process is gone: a live writer's, this process's included, are its own.
+void remove_stale_temporaries(const std::string& dir) {
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const long pid = temporary_owner(name);
+        if (pid <= 0 || pid == long(::getpid())) continue;
+        if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
+        std::error_code type_ec;
+        if (it->is_regular_file(type_ec)) ::unlink(it->path().c_str());
+    }
+}
 
 std::string parent_directory(const std::string& path) {
     const fs::path parent = fs::path(path).parent_path();
@@ -199,7 +232,10 @@ void write_all(const std::vector<FileRef>& files) {
 
     for (const Pending& p : pending)
         if (!p.backup.empty()) ::unlink(p.backup.c_str());
-    for (const std::string& dir : dirs) sync_directory(dir);
+    for (const std::string& dir : dirs) {
+        remove_stale_temporaries(dir);
+        sync_directory(dir);
+    }
 }
 
 }  // namespace

@@ -1,9 +1,13 @@
-// Issue 28's first class, from the command line: every file the CLI reads is
+// Hostile files from the command line (issue 28): every file the CLI reads is
 // a regular file within the input limit. /dev/zero given as an object
 // library, a drive description, an experiment file or a record, and a
 // directory given as a record, each end at once (not after reading until
 // memory runs out, nor as "not well-formed XML" or "an empty record") with
-// the file and what it is named, exit 1, nothing written.
+// the file and what it is named, exit 1, nothing written. And the
+// temporaries a killed run left are taken away by the next run.
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -74,6 +78,31 @@ TEST_CASE("cli: a device, pipe or directory given as a library, drive file, expe
     CHECK(r.err.find("records") != std::string::npos);
     CHECK(r.err.find("a directory") != std::string::npos);
     CHECK(!std::filesystem::exists(out));
+}
+
+
+// A translate killed mid-write leaves "<file>.tmp.<pid>.<n>" files beside its
+// outputs; the next run into the same folder removes them (their writer is
+// gone) and leaves what is not one of them.
+TEST_CASE("cli: a killed run's temporaries are removed by the next run into the same folder") {
+    atest::TempDir dir("mbx_cli_stale_temporaries");
+    const std::string out = dir.file("out");
+    const pid_t dead = ::fork();
+    if (dead == 0) ::_exit(0);
+    REQUIRE(dead > 0);
+    ::waitpid(dead, nullptr, 0);
+    const std::string pid = std::to_string(long(dead));
+    std::filesystem::create_directories(out + "/mjcf");
+    const std::vector<std::string> stale = {out + "/report.json.tmp." + pid + ".4", out + "/report.txt.tmp." + pid + ".5",
+                                            out + "/mjcf/emps_axis.xml.tmp." + pid + ".0"};
+    for (const std::string& f : stale) std::ofstream(f) << "half a file";
+    std::ofstream(out + "/notes.txt") << "the user's";
+    const atest::CliRun r = run_cli(dir, "translate '" + kArm + "' -o '" + out + "'");
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    for (const std::string& f : stale) CHECK_MESSAGE(!std::filesystem::exists(f), f);
+    CHECK(std::filesystem::exists(out + "/notes.txt"));
+    CHECK(std::filesystem::exists(out + "/report.json"));
 }
 
 }  // namespace MBX_UNITY_ID

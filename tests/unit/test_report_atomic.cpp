@@ -1,6 +1,7 @@
 // Atomic file writing: failures are clean, successes replace entirely.
 #include <doctest/doctest.h>
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -218,5 +219,38 @@ TEST_CASE("atomic: concurrent writers of one file never clash or leave debris") 
     CHECK(result == std::string(result.size(), result[0]));  // one writer's contents, whole
     CHECK(result.size() == 1000 + static_cast<std::size_t>(result[0] - 'a'));
     CHECK(temporaries_in(s.dir) == 0);
+}
+
+// A run killed mid-write leaves its temporaries ("<file>.tmp.<pid>.<n>"); the
+// next write into the folder removes those whose process is gone, and leaves
+// a live writer's (another process's, this one's) and files that only look
+// alike.
+TEST_CASE("atomic: a dead writer's temporaries are removed by the next write into the folder, a live one's kept") {
+    Scratch s("stale");
+    // A pid that is gone: a child that has exited and been reaped.
+    const pid_t dead = ::fork();
+    if (dead == 0) ::_exit(0);
+    REQUIRE(dead > 0);
+    ::waitpid(dead, nullptr, 0);
+    // A pid that lives: a child waiting to be told to stop.
+    const pid_t alive = ::fork();
+    if (alive == 0) {
+        ::pause();
+        ::_exit(0);
+    }
+    REQUIRE(alive > 0);
+    const std::string d = std::to_string(long(dead)), a = std::to_string(long(alive)), self = std::to_string(long(::getpid()));
+    const std::vector<std::string> stale = {"report.json.tmp." + d + ".0", "report.txt.tmp." + d + ".17",
+                                            "other.stl.tmp." + d + ".3"};
+    const std::vector<std::string> kept = {"report.json.tmp." + a + ".2", "report.json.tmp." + self + ".999",
+                                           "notes.tmp.txt", "x.tmp.12ab.3", "y.tmp." + d + ".", "old.json"};
+    for (const std::string& f : stale) spit(s.dir / f, "half");
+    for (const std::string& f : kept) spit(s.dir / f, "mine");
+    mbx::write_files_atomically({{(s.dir / "report.json").string(), "{}"}, {(s.dir / "report.txt").string(), "t"}});
+    for (const std::string& f : stale) CHECK_MESSAGE(!fs::exists(s.dir / f), f);
+    for (const std::string& f : kept) CHECK_MESSAGE(fs::exists(s.dir / f), f);
+    CHECK(mbx_test::read_file(s.dir / "report.json") == "{}");
+    ::kill(alive, SIGKILL);
+    ::waitpid(alive, nullptr, 0);
 }
 }  // namespace MBX_UNITY_ID
