@@ -3,6 +3,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "core/report/atomic_file.h"
@@ -17,6 +18,13 @@ std::string number(double x) {
     char buf[32];
     const auto r = std::to_chars(buf, buf + sizeof buf, x);
     return std::string(buf, r.ptr);
+}
+
+// Three significant figures: sizes and counts in messages.
+std::string brief(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
 }
 
 double total_energy(const Model& m, Data& d) {
@@ -176,10 +184,26 @@ RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory&
     } else if (!(std::isfinite(is.step) && is.step > 0)) {
         bad("the step must be positive");
     }
+    // Counts from the times, checked before any work: a count that does not
+    // fit would wrap (a 1e17 s run took 0 steps and succeeded), and the
+    // trajectory is held until it is written.
+    const double span = settings.stop_time - d.time, output_count = std::floor(span / settings.output_step + 1e-9);
+    if (!(output_count >= 1))
+        bad("the output step (" + number(settings.output_step) + " s) is longer than the run (" + number(span) +
+            " s): not one sample would follow the start");
+    const double row_bytes = 8.0 * double(trajectory_columns(m).size());
+    if (output_count * row_bytes > double(kTrajectoryLimitBytes))
+        bad("the run would hold " + brief(output_count) + " samples (" + brief(output_count * row_bytes / 1073741824.0) +
+            " GiB) and the limit is " + brief(double(kTrajectoryLimitBytes) / 1073741824.0) +
+            " GiB: raise the output step or shorten the run");
     const double ratio = accurate ? 1.0 : settings.output_step / is.step;
+    if (!accurate && !(ratio < 9e15)) bad("the output step (" + number(settings.output_step) + " s) is too many steps (" + number(is.step) + " s)");
     const long long per_output = std::llround(ratio);
     if (per_output < 1 || std::fabs(ratio - double(per_output)) > 1e-9 * ratio)
         bad("the output step (" + number(settings.output_step) + " s) must be a whole number of steps (" + number(is.step) + " s)");
+    if (!accurate && output_count * double(per_output) > double(kStepLimit))
+        bad("the run would take " + brief(output_count * double(per_output)) + " steps of " + number(is.step) +
+            " s, more than the limit of " + brief(double(kStepLimit)) + ": raise the step or shorten the run");
     check_finite_state(m, d, "at the start");
 
     out.columns = trajectory_columns(m);
@@ -199,7 +223,7 @@ RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory&
     const double t0 = d.time;
     s.energy_start = total_energy(m, d);
     sample(m, d, out);
-    const long long outputs = std::llround(std::floor((settings.stop_time - t0) / settings.output_step + 1e-9));
+    const long long outputs = (long long)output_count;
     long long step_index = 0;
     if (accurate) {
         AccurateRequest request;

@@ -30,6 +30,12 @@ void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed
 // the name is ambiguous, `ambiguous` is set).
 int find_joint(const Model& m, const std::string& key, bool* ambiguous = nullptr);
 
+// What a run may hold and do (docs/limits.md): its trajectory is kept until
+// written (samples x columns x 8 bytes), and a fixed-step run's step count
+// bounds its time. A run beyond either is refused before it starts.
+constexpr unsigned long long kTrajectoryLimitBytes = 4ull << 30;
+constexpr long long kStepLimit = 1'000'000'000'000LL;
+
 struct RunSettings {
     IntegratorSettings integrator;
     double stop_time = 1.0;
