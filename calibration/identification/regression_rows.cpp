@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "calibration/identification/closed_chain.h"
 #include "calibration/records/filters.h"
@@ -145,6 +146,16 @@ void model_effort(const sim::Model& m, sim::Data& d, const Eigen::VectorXd& qdd,
 }  // namespace
 
 
+namespace {
+
+std::string brief_number(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", x);
+    return buf;
+}
+
+}  // namespace
+
 RegressionRows regression_rows(const sim::Model& m, const std::vector<const Record*>& records,
                                const IdentifyOptions& options, const std::vector<double>* weights) {
     RegressionRows rows;
@@ -175,6 +186,8 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     ClosedChain chain = closed_chain(m, measured);
     const size_t na = rows.actuated.size();
     std::vector<RowSample> kept;
+    constexpr size_t kMinimumRows = 10;
+    std::string rows_of_records;  // what each record gave, for the message when it is too little
     for (const Record* r : records) {
         const double dt = r->sample_period();
         const double fs = 1 / dt;
@@ -210,6 +223,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         // the filter and the differences are least certain.
         const size_t step = std::max<size_t>(1, size_t(std::floor(fs / (4 * cutoff))));
         const size_t edge = size_t(std::ceil(fs / cutoff));
+        const size_t before = kept.size();
         for (size_t k = edge; k + edge < n; k += step) {
             RowSample s;
             s.first = k == edge;
@@ -225,9 +239,16 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
             for (size_t a = 0; a < na; ++a) s.effort[long(a)] = effort[a][k], s.rate[long(a)] = rate[a][k];
             kept.push_back(std::move(s));
         }
+        rows_of_records += (rows_of_records.empty() ? "" : "; ") + r->path + ": " + std::to_string(n) + " samples, " +
+                           std::to_string(kept.size() - before) + " rows (" + std::to_string(edge) +
+                           " dropped at each end, every " + std::to_string(step) + (step == 1 ? "" : "th") + " kept, for a " +
+                           brief_number(cutoff) + " Hz filter at " + brief_number(fs) + " Hz)";
     }
-    if (kept.size() < 10)
-        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name), "too few samples for identification");
+    if (kept.size() < kMinimumRows)
+        throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
+                    "too few samples for identification: " + std::to_string(kept.size()) + " rows where at least " +
+                        std::to_string(kMinimumRows) + " are needed (" + rows_of_records +
+                        "); longer records, or a higher filter cutoff, give more");
     fill_rows(m, chain, kept, rows);
     if (weights) {
         rows.weight = *weights;

@@ -75,3 +75,33 @@ TEST_CASE("calibration: EMPS inverse-dynamics identification names friction and 
     CHECK(viscous->parameters[0].std_error < 0.05 * viscous->parameters[0].value);
 }
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+// A record too short for identification (the EMPS training record cut to its
+// first 150 samples, 1 kHz, 25 Hz filter: 40 samples dropped at each end,
+// every 10th kept, 7 rows) is refused naming the record, its samples and rows
+// and the least that works, not with a bare "too few samples".
+TEST_CASE("calibration: a record too short to identify from is refused with its samples and rows named") {
+    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml");
+    sim::BuildOptions options;
+    options.drives = xtest::resolve_drive_file(*t->mechanism, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
+    const sim::Model model = sim::build_model(*t->mechanism, options);
+    const Experiment e = load_experiment(std::string(MBX_SAMPLES_DIR) + "/calibration/emps.xml");
+    std::vector<Record> records = load_records(e, model);
+    REQUIRE(!records.empty());
+    Record shortened = records[0];
+    shortened.t.resize(150);
+    for (Signal& s : shortened.signals) s.values.resize(150);
+    try {
+        regression_rows(model, {&shortened}, IdentifyOptions());
+        FAIL("no error for a 150-sample record");
+    } catch (const mbx::Error& err) {
+        const std::string what = err.what();
+        MESSAGE(what);
+        CHECK(what.find("7 rows where at least 10 are needed") != std::string::npos);
+        CHECK(what.find(shortened.path + ": 150 samples, 7 rows (40 dropped at each end, every 10th kept") != std::string::npos);
+    }
+}
+
+}  // namespace MBX_UNITY_ID
