@@ -187,6 +187,11 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
     const size_t na = rows.actuated.size();
     std::vector<RowSample> kept;
     constexpr size_t kMinimumRows = 10;
+    // Errors are sums of squares: an effort beyond 1e150 squares to
+    // infinity and every percentage after it is NaN or infinite (a record of
+    // 1e308 N m fitted "0.00 %"; masses of 1e300 "explained the data within
+    // its noise"). Such a record or model is refused, naming which.
+    constexpr double kLargestEffort = 1e150;
     std::string rows_of_records;  // what each record gave, for the message when it is too little
     for (const Record* r : records) {
         const double dt = r->sample_period();
@@ -211,7 +216,15 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         rows.record_effort.emplace_back(Eigen::Index(n), Eigen::Index(na));
         rows.record_velocity.push_back(Eigen::MatrixXd::Zero(Eigen::Index(n), m.nv));
         for (size_t a = 0; a < na; ++a) {
-            effort[a] = low_pass(r->find(Quantity::Effort, rows.actuated[a])->values, dt, cutoff);
+            const std::vector<double>& raw = r->find(Quantity::Effort, rows.actuated[a])->values;
+            for (size_t k = 0; k < raw.size(); ++k)
+                if (!(std::abs(raw[k]) < kLargestEffort)) {
+                    const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(rows.actuated[a])])];
+                    throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
+                                r->path + ": joint '" + j.name + "''s measured effort reaches " + brief_number(raw[k]) +
+                                    " at t = " + brief_number(r->t[k]) + " s, beyond what can be compared (its square overflows)");
+                }
+            effort[a] = low_pass(raw, dt, cutoff);
             rate[a] = derivative(effort[a], dt);
             for (size_t k = 0; k < n; ++k) rows.record_effort.back()(Eigen::Index(k), Eigen::Index(a)) = effort[a][k];
         }
@@ -250,6 +263,23 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                         std::to_string(kMinimumRows) + " are needed (" + rows_of_records +
                         "); longer records, or a higher filter cutoff, give more");
     fill_rows(m, chain, kept, rows);
+    // (the measured efforts were checked as read; what the filter made of them is too)
+    constexpr double kLargest = kLargestEffort;
+    for (Eigen::Index s = 0; s < Eigen::Index(rows.samples); ++s)
+        for (Eigen::Index a = 0; a < Eigen::Index(na); ++a) {
+            const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(rows.actuated[size_t(a)])])];
+            const Record& r = *records[size_t(rows.row_record[size_t(s)])];
+            const double t = r.t[size_t(rows.row_sample[size_t(s)])];
+            if (!(std::abs(rows.effort(s, a)) < kLargest))
+                throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
+                            r.path + ": joint '" + j.name + "''s measured effort reaches " + brief_number(rows.effort(s, a)) +
+                                " at t = " + brief_number(t) + " s, beyond what can be compared (its square overflows)");
+            if (!(std::abs(rows.model_effort(s, a)) < kLargest))
+                throw Error(MBX_ERROR_INVALID_INPUT, j.subject(),
+                            "joint '" + j.name + "': the model's effort along " + r.path + " reaches " +
+                                brief_number(rows.model_effort(s, a)) + " at t = " + brief_number(t) +
+                                " s, beyond what can be compared: check the masses and inertias the model carries");
+        }
     if (weights) {
         rows.weight = *weights;
     } else {

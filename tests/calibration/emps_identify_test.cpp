@@ -105,3 +105,45 @@ TEST_CASE("calibration: a record too short to identify from is refused with its 
 }
 
 }  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
+// Numbers too large to square: an effort of 1e308 in the record, or a model
+// whose carriage weighs 1e300 kg. Each is refused naming the joint and the
+// record (a record of 1e308 N fitted "0.00 %", heavy masses "explained the
+// data within its noise").
+TEST_CASE("calibration: efforts or masses too large to compare are refused naming the joint and the record") {
+    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml");
+    sim::BuildOptions options;
+    options.drives = xtest::resolve_drive_file(*t->mechanism, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
+    const sim::Model model = sim::build_model(*t->mechanism, options);
+    const Experiment e = load_experiment(std::string(MBX_SAMPLES_DIR) + "/calibration/emps.xml");
+    const std::vector<Record> records = load_records(e, model);
+    REQUIRE(!records.empty());
+    auto refusal = [](const sim::Model& m, const Record& r) -> std::string {
+        try {
+            regression_rows(m, {&r}, IdentifyOptions());
+        } catch (const mbx::Error& err) {
+            return err.what();
+        }
+        return "";
+    };
+    Record loud = records[0];
+    for (Signal& s : loud.signals)
+        if (s.quantity == Quantity::Effort) std::fill(s.values.begin() + 5000, s.values.begin() + 5100, 1e308);
+    const std::string effort = refusal(model, loud);
+    MESSAGE(effort);
+    CHECK(effort.find(loud.path) != std::string::npos);
+    CHECK(effort.find("measured effort reaches 1e+308 at t = 5 s") != std::string::npos);
+    CHECK(effort.find("its square overflows") != std::string::npos);
+
+    sim::Model heavy = model;
+    for (sim::BodyT<double>& b : heavy.bodies)
+        if (b.inertia.mass > 0) b.inertia.mass *= 1e300, b.inertia.h *= 1e300, b.inertia.I *= 1e300;
+    const std::string mass = refusal(heavy, records[0]);
+    MESSAGE(mass);
+    CHECK(mass.find("the model's effort along") != std::string::npos);
+    CHECK(mass.find("masses and inertias") != std::string::npos);
+}
+
+}  // namespace MBX_UNITY_ID
