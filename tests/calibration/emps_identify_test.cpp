@@ -78,17 +78,29 @@ TEST_CASE("calibration: EMPS inverse-dynamics identification names friction and 
 
 namespace MBX_UNITY_ID {
 
+// The EMPS axis with its drive, and the records of its sample experiment.
+sim::Model emps_model() {
+    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml");
+    sim::BuildOptions options;
+    options.drives = xtest::resolve_drive_file(*t->mechanism, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
+    return sim::build_model(*t->mechanism, options);
+}
+
+std::vector<Record> emps_records(const sim::Model& model) {
+    return load_records(load_experiment(std::string(MBX_SAMPLES_DIR) + "/calibration/emps.xml"), model);
+}
+
+}  // namespace MBX_UNITY_ID
+
+namespace MBX_UNITY_ID {
+
 // A record too short for identification (the EMPS training record cut to its
 // first 150 samples, 1 kHz, 25 Hz filter: 40 samples dropped at each end,
 // every 10th kept, 7 rows) is refused naming the record, its samples and rows
 // and the least that works, not with a bare "too few samples".
 TEST_CASE("calibration: a record too short to identify from is refused with its samples and rows named") {
-    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml");
-    sim::BuildOptions options;
-    options.drives = xtest::resolve_drive_file(*t->mechanism, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
-    const sim::Model model = sim::build_model(*t->mechanism, options);
-    const Experiment e = load_experiment(std::string(MBX_SAMPLES_DIR) + "/calibration/emps.xml");
-    std::vector<Record> records = load_records(e, model);
+    const sim::Model model = emps_model();
+    std::vector<Record> records = emps_records(model);
     REQUIRE(!records.empty());
     Record shortened = records[0];
     shortened.t.resize(150);
@@ -113,12 +125,8 @@ namespace MBX_UNITY_ID {
 // record (a record of 1e308 N fitted "0.00 %", heavy masses "explained the
 // data within its noise").
 TEST_CASE("calibration: efforts or masses too large to compare are refused naming the joint and the record") {
-    auto t = xtest::translate_file(std::string(MBX_SAMPLES_DIR) + "/emps_axis/emps_axis.xml");
-    sim::BuildOptions options;
-    options.drives = xtest::resolve_drive_file(*t->mechanism, std::string(MBX_SAMPLES_DIR) + "/mechatronics/emps_axis_drives.xml");
-    const sim::Model model = sim::build_model(*t->mechanism, options);
-    const Experiment e = load_experiment(std::string(MBX_SAMPLES_DIR) + "/calibration/emps.xml");
-    const std::vector<Record> records = load_records(e, model);
+    const sim::Model model = emps_model();
+    const std::vector<Record> records = emps_records(model);
     REQUIRE(!records.empty());
     auto refusal = [](const sim::Model& m, const Record& r) -> std::string {
         try {
