@@ -5,6 +5,7 @@
 // options and a calibration.json, and the files of excitation_files.h.
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -251,8 +252,8 @@ MBX_API mbx_status mbx_excite(mbx_context* context, const mbx_mechanism* mechani
         for (uint32_t k = 0; k < o.limit_count; ++k)
             if (!overridden[k]) bad_input(std::string("limits for '") + o.limits[k].joint + "': not a joint designed for");
 
-        for (const ExcitationServo& sv : servos)
-            if (sv.stiffness > 0) eo.servo = servos;
+        if (std::any_of(servos.begin(), servos.end(), [](const ExcitationServo& sv) { return sv.stiffness > 0; }))
+            eo.servo = servos;
         handle->design = design_excitation(m, dofs, limits, eo);
         handle->report.limits = limits;
         handle->report.limit_sources = sources;
