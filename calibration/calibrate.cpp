@@ -8,6 +8,7 @@
 #include "calibration/simulation/replay.h"
 #include "calibration/simulation/transmission_stage.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 
 namespace mbx::calibration {
 
@@ -23,11 +24,6 @@ double relative_error(const std::vector<double>& measured, const std::vector<dou
 
 namespace {
 
-void report(const CalibrateOptions& o, const char* stage, double fraction) {
-    if (o.progress && !o.progress(stage, fraction))
-        throw Error(MBX_ERROR_CANCELLED, Subject::model("calibration"), "calibration cancelled");
-}
-
 // Every `stride`-th sample, so that a plot has about `points` of them.
 size_t stride_for(size_t n, size_t points) { return points > 0 && n > points ? (n + points - 1) / points : 1; }
 
@@ -37,10 +33,12 @@ struct Replayed {
 
 Replayed replay_all(const sim::Model& m, const Experiment& e, const std::vector<Record>& records,
                     const std::vector<ComparedSignal>& compared, const ReplayAdjustments& adjust,
-                    const CalibrateOptions& options, double done, double share) {
+                    double done, double share) {
     Replayed r;
     for (size_t i = 0; i < records.size(); ++i) {
-        report(options, "replay", done + share * double(i) / double(records.size()));
+        const double from = done + share * double(i) / double(records.size());
+        heartbeat("replay", from);
+        const HeartbeatShare part(from, from + share / double(records.size()));
         r.values.push_back(replay(m, e, records[i], compared, adjust));
     }
     return r;
@@ -131,6 +129,9 @@ std::vector<ResidualCloud> residual_clouds(const sim::Model& m, const Regression
 CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base, const Experiment& e,
                             const CalibrateOptions& options) {
     const auto started = std::chrono::steady_clock::now();
+    Heartbeat beat(options.progress ? Heartbeat::Callback(options.progress) : Heartbeat::Callback(), "the calibration");
+    HeartbeatScope beating(&beat);
+    beat.stage("records", 0);
     CalibrationResult out;
     out.mode = e.mode;
     const sim::Model base_model = sim::build_model(mech, base);
@@ -147,11 +148,12 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
                     e.path + ": calibration needs at least one fit and one validation record");
     if (contact_experiment(e, base_model, records, options.contact)) {
         run_contact_stage(base_model, e, records, options.contact, options, out);
+        beat.report_now(1);
         out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         return out;
     }
 
-    report(options, "identify", 0);
+    beat.stage("identify", 0);
     // Inverse dynamics sees a transmission the model has in its rigid limit.
     const sim::Model rigid = rigid_limit(base_model);
     const RegressionRows fit = regression_rows(rigid, fit_records, options.identify);
@@ -161,7 +163,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     if (std::isnan(identify_options.noise_level)) identify_options.noise_level = floor;
     out.identification = identify(rigid, fit, validation, identify_options);
     out.identification.noise_level = floor;
-    report(options, "identify", 0.5);
+    beat.stage("simulation fit", 0);
     const Identification linear = out.identification;
     out.identification = transmission_stage(base_model, fit_records, validation_records, linear);
     if (!same_causes(linear, out.identification)) recompute_errors(out.identification, fit, validation);
@@ -178,7 +180,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
         bool failed = false;
         try {
             const sim::Model model = extended_model(mech, ext, e.mode);
-            sim = replay_all(model, e, records, compared, ext.adjust, options, double(i) / double(steps),
+            sim = replay_all(model, e, records, compared, ext.adjust, double(i) / double(steps),
                              1.0 / double(steps));
         } catch (const Error& err) {
             // The model as given must replay; a step whose extension does not
@@ -217,7 +219,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
             out.warnings.insert(out.warnings.end(), ext.warnings.begin(), ext.warnings.end());
         }
     }
-    report(options, "replay", 1);
+    beat.report_now(1);
     out.warnings.insert(out.warnings.begin(), id.warnings.begin(), id.warnings.end());
     const StepErrors& b = out.steps.front();
     const StepErrors& f = out.steps.back();

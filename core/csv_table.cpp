@@ -2,9 +2,10 @@
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <sstream>
+#include <string_view>
 
+#include "core/heartbeat.h"
 #include "core/input_file.h"
 
 namespace mbx {
@@ -40,23 +41,33 @@ CsvTable read_csv_table(const std::string& path, const Subject& subject) {
 
 CsvTable read_csv_table_text(const std::string& text, const std::string& path, const Subject& subject) {
     // Spreadsheets save "CSV UTF-8" with a byte-order mark before the first column's name.
-    const bool bom = text.compare(0, 3, "\xEF\xBB\xBF") == 0;
-    std::istringstream in(bom ? text.substr(3) : text);
+    // Lines are views into the text: a record of millions of rows is not
+    // copied line by line (nor whole, into a stream).
+    size_t at = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+    auto next_line = [&](std::string_view& line) {
+        if (at >= text.size()) return false;
+        size_t end = text.find('\n', at);
+        if (end == std::string::npos) end = text.size();
+        line = std::string_view(text).substr(at, end - at);
+        at = end + 1;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        return true;
+    };
     CsvTable t;
-    std::string line;
-    if (!std::getline(in, line))
+    std::string_view line;
+    if (!next_line(line))
         fail(subject, path, 1, "the record is empty (a header line of column names is expected)");
     {
-        std::stringstream header(line);
+        std::stringstream header{std::string(line)};
         std::string cell;
         while (std::getline(header, cell, ',')) t.header.push_back(trim(cell));
     }
     t.columns.assign(t.header.size(), {});
     int number = 1;
-    while (std::getline(in, line)) {
+    while (next_line(line)) {
+        heartbeat();
         ++number;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        if (line.find_first_not_of(" \t") == std::string::npos) continue;
+        if (line.find_first_not_of(" \t") == std::string_view::npos) continue;
         const char* p = line.data();
         const char* end = p + line.size();
         for (size_t c = 0; c < t.header.size(); ++c) {

@@ -2,11 +2,13 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 
+#include "core/heartbeat.h"
 #include "core/text_format.h"
 
 namespace mbx {
@@ -65,8 +67,15 @@ bool read_input_file(const std::string& path, std::string& out, std::string& why
     // Its size as stat saw it, and no more than the limit should it grow.
     const uint64_t limit = input_size_limit();
     out.assign(size_t(size), '\0');
-    in.read(out.data(), std::streamsize(size));
-    out.resize(size_t(in.gcount()));
+    // In pieces, so that a run reading a record of gigabytes still reports.
+    constexpr uint64_t kPiece = uint64_t(1) << 22;
+    uint64_t got = 0;
+    while (got < size && in) {
+        heartbeat();
+        in.read(out.data() + got, std::streamsize(std::min(kPiece, size - got)));
+        got += uint64_t(in.gcount());
+    }
+    out.resize(size_t(got));
     char extra[4096];
     while (in.read(extra, sizeof extra) || in.gcount() > 0) {
         if (out.size() + size_t(in.gcount()) > limit) {

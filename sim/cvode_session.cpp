@@ -13,6 +13,8 @@
 #include <exception>
 #include <string>
 
+#include "core/heartbeat.h"
+
 namespace mbx::sim {
 namespace {
 
@@ -538,10 +540,13 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
         restart(s, false);
     }
 
+    const bool evenly = r.sample_count > 0;
+    const size_t sample_total = evenly ? size_t(r.sample_count) : r.sample_times.size();
+    auto sample_time = [&](size_t k) { return evenly ? r.sample_start + double(k + 1) * r.sample_step : r.sample_times[k]; };
     size_t next_sample = 0;
     auto emit_until = [&](double t_reached) {
-        while (next_sample < r.sample_times.size() && r.sample_times[next_sample] <= t_reached) {
-            const double ts = r.sample_times[next_sample++];
+        while (next_sample < sample_total && sample_time(next_sample) <= t_reached) {
+            const double ts = sample_time(next_sample++);
             if (s.n > 0) {
                 check(CVodeGetDky(s.mem, ts, 0, s.y_out), "CVodeGetDky");
                 s.load(ts, N_VGetArrayPointer(s.y_out));
@@ -593,6 +598,10 @@ void accurate_advance(const Model& m, Data& d, const IntegratorSettings& is, con
         std::copy(N_VGetArrayPointer(s.y), N_VGetArrayPointer(s.y) + s.n, y_good.data());
         emit_until(t_ret);
         t = t_ret;
+        if (r.step_taken)
+            r.step_taken(t);
+        else
+            heartbeat();
         s.load(t, N_VGetArrayPointer(s.y));
         if (d.applied_forces) {
             // An accepted step: state that may change only on those (friction-spring anchors).

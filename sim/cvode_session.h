@@ -22,8 +22,15 @@ struct AccurateRequest {
     // Increasing times in (data.time, stop_time] at which `sample` sees the
     // state (interpolated by CVODE, then put back on the loop closures).
     std::vector<double> sample_times;
+    // Or, when sample_count > 0, evenly spaced ones made as the run goes
+    // (a long run holds no list): sample_start + k sample_step, k = 1..count.
+    double sample_start = 0, sample_step = 0;
+    long long sample_count = 0;
     std::function<void(Data& d)> sample;
     InputFunction inputs;
+    // After every accepted step, with its time (progress, cancel by a
+    // throw). Empty: mbx::heartbeat() is called instead.
+    std::function<void(double t)> step_taken;
 };
 
 // Integrates data from data.time to request.stop_time. A run continues the

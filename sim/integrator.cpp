@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/heartbeat.h"
 #include "sim/cvode_session.h"
 
 namespace mbx::sim {
@@ -219,10 +220,15 @@ void advance(const Model& m, Data& d, const IntegratorSettings& settings, double
     // Whole steps up to t_end (within a billionth of a step, so that an end
     // time carrying round-off does not add a sliver of a step), then the rest.
     const double tolerance = 1e-9 * settings.step;
+    if (!(span / settings.step < 9e15))
+        throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name),
+                    "advancing by " + std::to_string(span) + " s in steps of " + std::to_string(settings.step) +
+                        " s would take more steps than can be counted");
     const long long whole = (long long)std::floor((span + tolerance) / settings.step);
     for (long long k = 1; k <= whole; ++k) {
         fixed_step(m, d, settings);
         d.time = t0 + double(k) * settings.step;
+        heartbeat();
     }
     const double rest = t_end - d.time;
     if (rest > tolerance) {

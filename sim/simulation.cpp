@@ -6,7 +6,8 @@
 #include <cstdio>
 #include <map>
 
-#include "core/report/atomic_file.h"
+#include <sys/statvfs.h>
+
 #include "core/report/json_writer.h"
 #include "sim/cvode_session.h"
 #include "sim/transmission.h"
@@ -159,121 +160,79 @@ std::vector<std::string> trajectory_columns(const Model& m) {
 
 namespace {
 
-void sample(const Model& m, const Data& d, Trajectory& out) {
-    out.values.push_back(d.time);
+// The state as one trajectory row, in trajectory_columns' order.
+void sample(const Model& m, const Data& d, std::vector<double>& row) {
+    row.clear();
+    row.push_back(d.time);
     for (const JointT<double>& j : m.joints) {
-        for (int k = 0; k < j.nq(); ++k) out.values.push_back(d.q[j.q_index + k]);
-        for (int k = 0; k < j.nv(); ++k) out.values.push_back(d.v[j.v_index + k]);
+        for (int k = 0; k < j.nq(); ++k) row.push_back(d.q[j.q_index + k]);
+        for (int k = 0; k < j.nv(); ++k) row.push_back(d.v[j.v_index + k]);
     }
-    for (Eigen::Index i = 0; i < d.motor_q.size(); ++i) out.values.insert(out.values.end(), {d.motor_q[i], d.motor_v[i]});
-    for (const DriveSignals& s : d.drives.signals) out.values.insert(out.values.end(), {s.target, s.output, s.current, s.effort});
+    for (Eigen::Index i = 0; i < d.motor_q.size(); ++i) row.insert(row.end(), {d.motor_q[i], d.motor_v[i]});
+    for (const DriveSignals& s : d.drives.signals) row.insert(row.end(), {s.target, s.output, s.current, s.effort});
 }
 
 }  // namespace
 
-RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory& out) {
-    const IntegratorSettings& is = settings.integrator;
-    auto bad = [](const std::string& what) { throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(""), what); };
-    if (!(std::isfinite(settings.stop_time) && settings.stop_time > d.time)) bad("the stop time must be finite and after the current time");
-    if (!(std::isfinite(settings.output_step) && settings.output_step > 0)) bad("the output step must be positive");
-    const bool accurate = is.kind == IntegratorKind::Accurate;
-    if (accurate) {
-        // The step bounds CVODE's steps (0: none); outputs are interpolated.
-        if (!(std::isfinite(is.step) && is.step >= 0)) bad("the largest step must be 0 (no bound) or positive");
-        if (!(std::isfinite(is.tolerance) && is.tolerance > 0 && is.tolerance < 1)) bad("the tolerance must be in (0, 1)");
-    } else if (!(std::isfinite(is.step) && is.step > 0)) {
-        bad("the step must be positive");
-    }
-    // Counts from the times, checked before any work: a count that does not
-    // fit would wrap (a 1e17 s run took 0 steps and succeeded), and the
-    // trajectory is held until it is written.
-    const double span = settings.stop_time - d.time, output_count = std::floor(span / settings.output_step + 1e-9);
-    if (!(output_count >= 1))
-        bad("the output step (" + number(settings.output_step) + " s) is longer than the run (" + number(span) +
-            " s): not one sample would follow the start");
-    const double row_bytes = 8.0 * double(trajectory_columns(m).size());
-    if (output_count * row_bytes > double(kTrajectoryLimitBytes))
-        bad("the run would hold " + brief(output_count) + " samples (" + brief(output_count * row_bytes / 1073741824.0) +
-            " GiB) and the limit is " + brief(double(kTrajectoryLimitBytes) / 1073741824.0) +
-            " GiB: raise the output step or shorten the run");
-    const double ratio = accurate ? 1.0 : settings.output_step / is.step;
-    if (!accurate && !(ratio < 9e15)) bad("the output step (" + number(settings.output_step) + " s) is too many steps (" + number(is.step) + " s)");
-    const long long per_output = std::llround(ratio);
-    if (per_output < 1 || std::fabs(ratio - double(per_output)) > 1e-9 * ratio)
-        bad("the output step (" + number(settings.output_step) + " s) must be a whole number of steps (" + number(is.step) + " s)");
-    if (!accurate && output_count * double(per_output) > double(kStepLimit))
-        bad("the run would take " + brief(output_count * double(per_output)) + " steps of " + number(is.step) +
-            " s, more than the limit of " + brief(double(kStepLimit)) + ": raise the step or shorten the run");
-    check_finite_state(m, d, "at the start");
-
-    out.columns = trajectory_columns(m);
-    out.values.clear();
-    RunSummary s;
-    s.integrator = integrator_name(is.kind);
-    s.stop_time = settings.stop_time;
-    s.step = is.step;
-    s.tolerance = is.tolerance;
-    s.output_step = settings.output_step;
-    s.passive = model_is_passive(m);
-    const auto start = std::chrono::steady_clock::now();
-
-    // Drive signals at t0 for the first sample.
-    update_controllers(m, d, d.time);
-    drive_forces(m, d);
-    const double t0 = d.time;
-    s.energy_start = total_energy(m, d);
-    sample(m, d, out);
-    const long long outputs = (long long)output_count;
-    long long step_index = 0;
-    if (accurate) {
-        AccurateRequest request;
-        request.stop_time = settings.stop_time;
-        for (long long k = 1; k <= outputs; ++k) request.sample_times.push_back(t0 + double(k) * settings.output_step);
-        long long k = 0;
-        request.sample = [&](Data& at) {
-            sample(m, at, out);
-            s.energy_drift = std::max(s.energy_drift, std::fabs(total_energy(m, at) - s.energy_start));
-            ++k;
-            if (settings.progress && !settings.progress(double(k) / double(outputs)))
-                throw Error(MBX_ERROR_CANCELLED, Subject::model(m.name), "the simulation was cancelled at t = " + number(at.time) + " s");
-        };
-        accurate_advance(m, d, is, request);
-    }
-    for (long long k = 1; k <= outputs && !accurate; ++k) {
-        for (long long i = 0; i < per_output; ++i) {
-            fixed_step(m, d, is);
-            // Times from the step count, so that no round-off accumulates.
-            d.time = t0 + double(++step_index) * is.step;
-        }
-        sample(m, d, out);
-        s.energy_drift = std::max(s.energy_drift, std::fabs(total_energy(m, d) - s.energy_start));
-        if (settings.progress && !settings.progress(double(k) / double(outputs)))
-            throw Error(MBX_ERROR_CANCELLED, Subject::model(m.name), "the simulation was cancelled at t = " + number(d.time) + " s");
-    }
-    s.stats = d.stats;
-    s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    s.steps_per_second = s.wall_time > 0 ? double(s.stats.steps) / s.wall_time : 0;
-    const double e_scale = std::max(std::fabs(s.energy_start), 1e-300);
-    s.energy_drift_relative = s.energy_drift / e_scale;
-    return s;
+void Trajectory::open(const std::vector<std::string>& names, double rows) {
+    const double bytes = rows * 8.0 * double(names.size());
+    if (bytes > double(kTrajectoryLimitBytes))
+        throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(""),
+                    "the run would hold " + brief(rows) + " samples (" + brief(bytes / 1073741824.0) +
+                        " GiB) in memory and the limit is " + brief(double(kTrajectoryLimitBytes) / 1073741824.0) +
+                        " GiB: raise the output step or shorten the run");
+    columns = names;
+    values.clear();
 }
 
-void write_run_files(const std::string& dir, const Model& m, const Trajectory& t, const RunSummary& s) {
-    std::string csv;
-    csv.reserve(t.values.size() * 20);
-    for (size_t c = 0; c < t.columns.size(); ++c) {
-        if (c) csv += ',';
-        csv += t.columns[c];
-    }
-    csv += '\n';
-    const size_t nc = t.columns.size();
-    for (size_t r = 0; r < t.rows(); ++r) {
-        for (size_t c = 0; c < nc; ++c) {
-            if (c) csv += ',';
-            csv += number(t.values[r * nc + c]);
+namespace {
+
+// The most characters a sample takes in trajectory.csv: a shortest
+// round-trip double is at most 24 characters, then its separator.
+constexpr double kCsvBytesPerValue = 25;
+
+}  // namespace
+
+void RunFiles::open(const std::vector<std::string>& names, double rows) {
+    csv_ = std::make_unique<StreamedFile>(dir_ + "/trajectory.csv");
+    struct statvfs fs {};
+    const double need = rows * kCsvBytesPerValue * double(names.size());
+    if (::statvfs(dir_.c_str(), &fs) == 0) {
+        const double free_bytes = double(fs.f_bavail) * double(fs.f_frsize);
+        if (need > free_bytes) {
+            csv_.reset();
+            throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{MBX_SUBJECT_FILE, dir_ + "/trajectory.csv", ""},
+                        "the trajectory of " + brief(rows) + " samples may take up to " + brief(need / 1073741824.0) +
+                            " GiB and the file system of '" + dir_ + "' has " + brief(free_bytes / 1073741824.0) +
+                            " GiB free: raise the output step or shorten the run");
         }
-        csv += '\n';
     }
+    columns_ = names.size();
+    rows_ = 0;
+    line_.clear();
+    for (size_t c = 0; c < names.size(); ++c) {
+        if (c) line_ += ',';
+        line_ += names[c];
+    }
+    line_ += '\n';
+    csv_->append(line_);
+}
+
+void RunFiles::add(const double* row) {
+    line_.clear();
+    char buf[32];
+    for (size_t c = 0; c < columns_; ++c) {
+        if (c) line_ += ',';
+        const auto r = std::to_chars(buf, buf + sizeof buf, row[c]);
+        line_.append(buf, r.ptr);
+    }
+    line_ += '\n';
+    csv_->append(line_);
+    ++rows_;
+}
+
+void RunFiles::commit(const Model& m, const RunSummary& s) {
+    if (!csv_) throw Error(MBX_ERROR_INTERNAL, Subject::model(m.name), "the run's files were committed before the run");
     JsonWriter w;
     w.begin_object();
     w.key("model").value(m.name);
@@ -282,7 +241,7 @@ void write_run_files(const std::string& dir, const Model& m, const Trajectory& t
     w.key("step").value(s.step);
     if (s.integrator == "accurate") w.key("tolerance").value(s.tolerance);
     w.key("output_step").value(s.output_step);
-    w.key("samples").value(static_cast<unsigned long long>(t.rows()));
+    w.key("samples").value(rows_);
     w.key("steps").value(s.stats.steps);
     w.key("function_evaluations").value(s.stats.evaluations);
     w.key("friction_mode_switches").value(s.stats.mode_switches);
@@ -297,7 +256,97 @@ void write_run_files(const std::string& dir, const Model& m, const Trajectory& t
     for (int k = 0; k < 3; ++k) w.value(m.gravity[k]);
     w.end_array();
     w.end_object();
-    write_files_atomically({{dir + "/trajectory.csv", csv}, {dir + "/simulation.json", w.str() + "\n"}});
+    write_files_atomically({{dir_ + "/simulation.json", w.str() + "\n"}}, {csv_.get()});
+}
+
+RunSummary run(const Model& m, Data& d, const RunSettings& settings, SampleSink& out) {
+    const IntegratorSettings& is = settings.integrator;
+    auto bad = [](const std::string& what) { throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(""), what); };
+    if (!(std::isfinite(settings.stop_time) && settings.stop_time > d.time)) bad("the stop time must be finite and after the current time");
+    if (!(std::isfinite(settings.output_step) && settings.output_step > 0)) bad("the output step must be positive");
+    const bool accurate = is.kind == IntegratorKind::Accurate;
+    if (accurate) {
+        // The step bounds CVODE's steps (0: none); outputs are interpolated.
+        if (!(std::isfinite(is.step) && is.step >= 0)) bad("the largest step must be 0 (no bound) or positive");
+        if (!(std::isfinite(is.tolerance) && is.tolerance > 0 && is.tolerance < 1)) bad("the tolerance must be in (0, 1)");
+    } else if (!(std::isfinite(is.step) && is.step > 0)) {
+        bad("the step must be positive");
+    }
+    // Counts from the times, checked before any work: a count that does not
+    // fit would wrap (a 1e17 s run took 0 steps and succeeded).
+    const double span = settings.stop_time - d.time, output_count = std::floor(span / settings.output_step + 1e-9);
+    if (!(output_count >= 1))
+        bad("the output step (" + number(settings.output_step) + " s) is longer than the run (" + number(span) +
+            " s): not one sample would follow the start");
+    if (!(output_count < 9e15)) bad("the run would take " + brief(output_count) + " output samples: raise the output step");
+    const double ratio = accurate ? 1.0 : settings.output_step / is.step;
+    if (!accurate && !(ratio < 9e15)) bad("the output step (" + number(settings.output_step) + " s) is too many steps (" + number(is.step) + " s)");
+    const long long per_output = std::llround(ratio);
+    if (per_output < 1 || std::fabs(ratio - double(per_output)) > 1e-9 * ratio)
+        bad("the output step (" + number(settings.output_step) + " s) must be a whole number of steps (" + number(is.step) + " s)");
+    if (!accurate && output_count * double(per_output) > double(kStepLimit))
+        bad("the run would take " + brief(output_count * double(per_output)) + " steps of " + number(is.step) +
+            " s, more than the limit of " + brief(double(kStepLimit)) + ": raise the step or shorten the run");
+    check_finite_state(m, d, "at the start");
+    out.open(trajectory_columns(m), output_count + 1);
+
+    RunSummary s;
+    s.integrator = integrator_name(is.kind);
+    s.stop_time = settings.stop_time;
+    s.step = is.step;
+    s.tolerance = is.tolerance;
+    s.output_step = settings.output_step;
+    s.passive = model_is_passive(m);
+    const auto start = std::chrono::steady_clock::now();
+    Heartbeat heartbeat(settings.progress ? Heartbeat::Callback([&](const char*, double f) { return settings.progress(f); })
+                                          : Heartbeat::Callback(),
+                        "the simulation", settings.progress_interval);
+    HeartbeatScope beating(&heartbeat);
+    heartbeat.stage("simulating", 0);
+
+    // Drive signals at t0 for the first sample.
+    update_controllers(m, d, d.time);
+    drive_forces(m, d);
+    const double t0 = d.time;
+    s.energy_start = total_energy(m, d);
+    std::vector<double> row;
+    auto take_sample = [&](Data& at) {
+        sample(m, at, row);
+        out.add(row.data());
+        ++s.samples;
+        s.energy_drift = std::max(s.energy_drift, std::fabs(total_energy(m, at) - s.energy_start));
+    };
+    take_sample(d);
+    const long long outputs = (long long)output_count;
+    if (accurate) {
+        AccurateRequest request;
+        request.stop_time = settings.stop_time;
+        request.sample_start = t0;
+        request.sample_step = settings.output_step;
+        request.sample_count = outputs;
+        request.sample = take_sample;
+        request.step_taken = [&](double t) { heartbeat.beat((t - t0) / span); };
+        accurate_advance(m, d, is, request);
+    } else {
+        long long step_index = 0;
+        const double steps = output_count * double(per_output);
+        for (long long k = 1; k <= outputs; ++k) {
+            for (long long i = 0; i < per_output; ++i) {
+                fixed_step(m, d, is);
+                // Times from the step count, so that no round-off accumulates.
+                d.time = t0 + double(++step_index) * is.step;
+                heartbeat.beat(double(step_index) / steps);
+            }
+            take_sample(d);
+        }
+    }
+    heartbeat.report_now(1.0);
+    s.stats = d.stats;
+    s.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    s.steps_per_second = s.wall_time > 0 ? double(s.stats.steps) / s.wall_time : 0;
+    const double e_scale = std::max(std::fabs(s.energy_start), 1e-300);
+    s.energy_drift_relative = s.energy_drift / e_scale;
+    return s;
 }
 
 }  // namespace mbx::sim

@@ -3,10 +3,14 @@
 // output step, and the files a run leaves (trajectory.csv, simulation.json).
 // The CLI's `mbx simulate` and the C API's run call these.
 #pragma once
+#include <chrono>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/heartbeat.h"
+#include "core/report/atomic_file.h"
 #include "sim/integrator.h"
 
 namespace mbx::sim {
@@ -30,9 +34,9 @@ void initial_state(const Model& m, Data& d, const std::vector<FixedValue>& fixed
 // the name is ambiguous, `ambiguous` is set).
 int find_joint(const Model& m, const std::string& key, bool* ambiguous = nullptr);
 
-// What a run may hold and do (docs/limits.md): its trajectory is kept until
-// written (samples x columns x 8 bytes), and a fixed-step run's step count
-// bounds its time. A run beyond either is refused before it starts.
+// What a run may hold and do (docs/limits.md): a trajectory held in memory
+// (samples x columns x 8 bytes; a run's files stream theirs to disk), and a
+// fixed-step run's step count. A run beyond either is refused before it starts.
 constexpr unsigned long long kTrajectoryLimitBytes = 4ull << 30;
 constexpr long long kStepLimit = 1'000'000'000'000LL;
 
@@ -40,18 +44,15 @@ struct RunSettings {
     IntegratorSettings integrator;
     double stop_time = 1.0;
     double output_step = 0.01;  // fixed-step modes: a whole number of steps
-    // Called at every output sample with the fraction done; return false to stop.
+    // The fraction of the run done, reported by wall time (every
+    // `progress_interval`, whatever the cost of a step or the output step),
+    // and once at the end; return false to stop.
     std::function<bool(double)> progress;
-};
-
-// Samples of a run: `columns` names (time first), rows of values.
-struct Trajectory {
-    std::vector<std::string> columns;
-    std::vector<double> values;  // row-major
-    size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
+    std::chrono::steady_clock::duration progress_interval = Heartbeat::kDefaultInterval;
 };
 
 struct RunSummary {
+    unsigned long long samples = 0;
     std::string integrator;
     double stop_time = 0, step = 0, tolerance = 0, output_step = 0;
     RunStats stats;
@@ -61,15 +62,56 @@ struct RunSummary {
     bool passive = false;          // no drives, efforts, damping or friction: energy should hold
 };
 
+// Where a run's samples go, one row at a time (time first, then
+// trajectory_columns' order).
+class SampleSink {
+public:
+    virtual ~SampleSink() = default;
+    // Before the first sample: the columns and how many rows will come.
+    // Throws mbx::Error(MBX_ERROR_INVALID_ARGUMENT) naming the limit when the
+    // sink cannot take them, before any work.
+    virtual void open(const std::vector<std::string>& columns, double rows) = 0;
+    virtual void add(const double* row) = 0;
+};
+
+// Samples held in memory: `columns` names (time first), rows of values; at
+// most kTrajectoryLimitBytes.
+struct Trajectory final : SampleSink {
+    std::vector<std::string> columns;
+    std::vector<double> values;  // row-major
+    size_t rows() const { return columns.empty() ? 0 : values.size() / columns.size(); }
+
+    void open(const std::vector<std::string>& names, double rows) override;
+    void add(const double* row) override { values.insert(values.end(), row, row + columns.size()); }
+};
+
+// A run's files in `dir`: trajectory.csv streamed to its temporary as the
+// samples come (memory bounded whatever the run's length; refused before the
+// run when it would not fit the folder's free space), then simulation.json;
+// commit() renames both as one unit. Destroyed without commit (an error, a
+// cancel), it leaves the folder as it was.
+class RunFiles final : public SampleSink {
+public:
+    explicit RunFiles(std::string dir) : dir_(std::move(dir)) {}
+    void open(const std::vector<std::string>& names, double rows) override;
+    void add(const double* row) override;
+    void commit(const Model& m, const RunSummary& summary);
+
+private:
+    std::string dir_;
+    std::unique_ptr<StreamedFile> csv_;
+    std::string line_;
+    size_t columns_ = 0;
+    unsigned long long rows_ = 0;
+};
+
 // The trajectory's column names for a model (joint coordinates, then drives).
 std::vector<std::string> trajectory_columns(const Model& m);
 
-// Integrates data from its current state to settings.stop_time. Throws
-// mbx::Error (MBX_ERROR_CANCELLED when progress said stop) on failure; the
-// trajectory then holds what was computed.
-RunSummary run(const Model& m, Data& d, const RunSettings& settings, Trajectory& out);
-
-// trajectory.csv and simulation.json as one unit (temporaries, then renames).
-void write_run_files(const std::string& dir, const Model& m, const Trajectory& t, const RunSummary& s);
+// Integrates data from its current state to settings.stop_time, the state
+// at the start and at every output step into `out`. Throws mbx::Error
+// (MBX_ERROR_CANCELLED when progress said stop) on failure; `out` then holds
+// what was computed.
+RunSummary run(const Model& m, Data& d, const RunSettings& settings, SampleSink& out);
 
 }  // namespace mbx::sim

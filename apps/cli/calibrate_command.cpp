@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "mechanism_input.h"
+#include "progress_line.h"
 
 namespace mbx_cli {
 namespace {
@@ -25,20 +26,6 @@ const std::string kCalibrateUsage = std::string(
     "  --write-urdf <file.urdf>  (a URDF input) also write the input URDF with the calibrated joint damping,\n"
     "              friction and link inertials in it, every other byte kept (docs/urdf.md)\n") +
     kInputOptionsHelp;
-
-// A line per stage and tenth.
-struct Progress {
-    std::string stage;
-    int tenth = -1;
-};
-
-int calibrate_progress(void* user, const char* stage, double fraction) {
-    Progress& p = *static_cast<Progress*>(user);
-    const int tenth = int(std::floor(fraction * 10 + 1e-9));
-    if (stage != p.stage || tenth != p.tenth) std::fprintf(stderr, "mbx: %s %d%%\n", stage, 10 * tenth);
-    p.stage = stage, p.tenth = tenth;
-    return 0;
-}
 
 }  // namespace
 
@@ -93,8 +80,8 @@ int run_calibrate(const std::vector<std::string>& args) {
     options.experiment = experiment.c_str();
     options.description = in.drives_path.empty() ? nullptr : in.drives_path.c_str();
     options.directory = out_dir.c_str();
-    Progress p;
-    if (progress) mbx_context_set_progress(c.ctx, calibrate_progress, &p);
+    ProgressLine line;
+    if (progress) mbx_context_set_progress(c.ctx, ProgressLine::callback, &line);
     struct Handle {
         mbx_calibration* h = nullptr;
         ~Handle() { mbx_calibration_destroy(h); }

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "mechanism_input.h"
+#include "progress_line.h"
 
 namespace mbx_cli {
 namespace {
@@ -67,14 +68,6 @@ bool parse_count(const std::string& text, uint32_t& out) {
     if (!parse_number(text, v) || v < 1 || v > 1e9 || v != std::floor(v)) return false;
     out = uint32_t(v);
     return true;
-}
-
-int excite_progress(void* user, const char* stage, double fraction) {
-    int& tenth = *static_cast<int*>(user);
-    const int now = int(std::floor(fraction * 10 + 1e-9));
-    if (now != tenth) std::fprintf(stderr, "mbx: %s %d%%\n", stage, 10 * now);
-    tenth = now;
-    return 0;
 }
 
 }  // namespace
@@ -160,8 +153,8 @@ int run_excite(const std::vector<std::string>& args) {
     o.limits = limits.data(), o.limit_count = uint32_t(limits.size());
     o.calibration = calibration.empty() ? nullptr : calibration.c_str();
     o.directory = out_dir.c_str();
-    int tenth = -1;
-    if (progress) mbx_context_set_progress(c.ctx, excite_progress, &tenth);
+    ProgressLine line;
+    if (progress) mbx_context_set_progress(c.ctx, ProgressLine::callback, &line);
     struct Handle {
         mbx_excitation* h = nullptr;
         ~Handle() { mbx_excitation_destroy(h); }

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "mechanism_input.h"
+#include "progress_line.h"
 
 namespace mbx_cli {
 namespace {
@@ -50,15 +51,6 @@ struct Setting {
     bool velocity = false;
     double value = 0;
 };
-
-// A line per tenth of the run.
-int simulate_progress(void* user, const char* stage, double fraction) {
-    int& last = *static_cast<int*>(user);
-    const int tenth = int(std::floor(fraction * 10 + 1e-9));
-    if (tenth != last) std::fprintf(stderr, "mbx: %s %d%%\n", stage, 10 * tenth);
-    last = tenth;
-    return 0;
-}
 
 }  // namespace
 
@@ -193,8 +185,8 @@ int run_simulate(const std::vector<std::string>& args) {
     status = mbx_sim_initialize(c.ctx, sim.data, fixed.data(), uint32_t(fixed.size()));
     if (status != MBX_OK) return fail(c, status, "initialisation");
 
-    int last_tenth = -1;
-    if (progress) mbx_context_set_progress(c.ctx, simulate_progress, &last_tenth);
+    ProgressLine line(run.stop_time, "s simulated");
+    if (progress) mbx_context_set_progress(c.ctx, ProgressLine::callback, &line);
     status = mbx_sim_run(c.ctx, sim.data, &run, out_dir.c_str());
     if (progress) mbx_context_set_progress(c.ctx, nullptr, nullptr);
     if (status != MBX_OK) return fail(c, status, "simulation");

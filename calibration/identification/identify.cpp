@@ -6,6 +6,7 @@
 
 #include "calibration/cause_table.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 
 namespace mbx::calibration {
 
@@ -150,6 +151,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         return false;
     };
     for (int round = 0; round < options.max_causes; ++round) {
+        heartbeat(double(round) / double(std::max(1, options.max_causes)));
         // Nothing stands above the records' noise: any cause named now would
         // be named for fitting it. (Not the verdict's margin: an effect
         // beside the noise adds in quadrature, one of 75 % of the noise stays
@@ -167,6 +169,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             std::vector<double> best_sse(size_t(m.nv), INFINITY);
             std::vector<int> best_at(size_t(m.nv), -1);
             for (size_t k = 0; k < candidates.size(); ++k) {
+                heartbeat();
                 const Candidate& c = candidates[k];
                 if (c.kind().refinement != Refinement::GridAndSpeeds || taken(c)) continue;
                 Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
@@ -195,6 +198,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             return svd.singularValues().minCoeff() < least_new;
         };
         for (size_t k = 0; k < candidates.size(); ++k) {
+            heartbeat();
             if (taken(candidates[k])) continue;
             const Refinement refinement = candidates[k].kind().refinement;
             if (refinement == Refinement::GridAndSpeeds && !grid_best[k]) continue;

@@ -8,6 +8,7 @@
 #include "calibration/records/filters.h"
 #include "calibration/records/noise.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "sim/dynamics.h"
 #include "sim/joint_forces.h"
 #include "sim/loop_closure.h"
@@ -238,6 +239,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         const size_t edge = size_t(std::ceil(fs / cutoff));
         const size_t before = kept.size();
         for (size_t k = edge; k + edge < n; k += step) {
+            heartbeat();
             RowSample s;
             s.first = k == edge;
             rows.row_record.push_back(record), rows.row_sample.push_back(int(k));
@@ -347,6 +349,7 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
     const std::vector<int> none, &probed = positions ? chain.independent : none;
     Eigen::MatrixXd joint_share;
     for (Eigen::Index s = 0; s < S; ++s) {
+        heartbeat(double(s) / double(S));
         const RowSample& x = kept[size_t(s)];
         // Dependent positions start from the last sample's (or the assembly pose at a record's start).
         const Eigen::VectorXd start = x.first || s == 0 ? m.q_reference : Eigen::VectorXd(d.q);

@@ -5,6 +5,7 @@
 
 #include "calibration/records/body_quantities.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "sim/simulation.h"
 
 namespace mbx::calibration {
@@ -95,6 +96,7 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
         // A trial is short (a toss lasts a second), and its samples serve a rollout, not identification.
         const size_t minimum = e.trial_column.empty() ? kMinimumSamples : kMinimumTrialSamples;
         for (const auto& [path, all_rows] : parts) {
+            heartbeat();
             for (size_t i = 1; i < all_rows.size(); ++i)
                 if (!(t_raw[all_rows[i]] > t_raw[all_rows[i - 1]]))
                     fail(rs.path, int(all_rows[i]) + 2,

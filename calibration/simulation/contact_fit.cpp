@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "sim/dynamics.h"
 #include "sim/joint_motion.h"
 
@@ -28,7 +29,8 @@ using sim::contact::ShapeKind;
 }
 
 // Runs f(i) for i in [0, n) on up to `threads` threads; the first exception
-// is rethrown here.
+// is rethrown here. The workers share the run's heartbeat: a cancel reaches
+// their rollouts too.
 template <class F> void parallel_for(size_t n, int threads, F&& f) {
     size_t workers = threads > 0 ? size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
     workers = std::min(workers, n);
@@ -39,7 +41,9 @@ template <class F> void parallel_for(size_t n, int threads, F&& f) {
     std::atomic<size_t> next{0};
     std::exception_ptr error;
     std::mutex error_mutex;
+    Heartbeat* const heartbeat = current_heartbeat();
     auto work = [&] {
+        const HeartbeatScope beating(heartbeat);
         for (size_t i; (i = next++) < n;) {
             try {
                 f(i);
@@ -115,6 +119,7 @@ Rollout roll_out(const ContactScene& scene, const ContactModel& model, const Pos
     out.orientations.reserve(record.samples.size());
     for (const PoseSample& s : record.samples) {
         while (d.time < s.t - 1e-9 && !out.diverged) {
+            heartbeat();
             world.step(m, d, scene.integrator);
             out.diverged = !healthy();
         }
@@ -227,7 +232,21 @@ public:
         mutable_parameter_block_sizes()->push_back(int(causes_.size()));
     }
 
+    // A cancel ends the evaluation as a failed one: no exception may cross
+    // Ceres, and solve_quietly then ends the solve and throws it.
     bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+        try {
+            return evaluate(parameters, residuals, jacobians);
+        } catch (const Error& e) {
+            if (e.status() == MBX_ERROR_CANCELLED) return false;
+            throw;
+        }
+    }
+
+    size_t samples() const { return samples_; }
+
+private:
+    bool evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
         const size_t p = causes_.size();
         const double* x = parameters[0];
         // Centre, then +/- each coordinate: every trial of every setting in one parallel batch.
@@ -280,9 +299,6 @@ public:
         return true;
     }
 
-    size_t samples() const { return samples_; }
-
-private:
     const ContactScene& scene_;
     const ContactModel& base_;
     std::vector<std::string> causes_;

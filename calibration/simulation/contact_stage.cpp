@@ -9,6 +9,7 @@
 #include "calibration/calibrate.h"
 #include "calibration/simulation/replay.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "core/mechatronics/contact_description.h"
 #include "core/report/json_writer.h"
 
@@ -194,8 +195,7 @@ void run_contact_stage(const sim::Model& m, const Experiment& e, const std::vect
         if (records[r].role == Role::Fit) fit.push_back(std::move(p)), cs.fit_trials.push_back(int(r));
         else validation.push_back(std::move(p)), cs.validation_trials.push_back(int(r));
     }
-    if (options.progress && !options.progress("contact", 0))
-        throw Error(MBX_ERROR_CANCELLED, Subject::model("calibration"), "calibration cancelled");
+    heartbeat("contact", 0);
     ContactFitOptions fo;
     cs.fit = fit_contact(scene, start, fit, validation, fo);
 
@@ -204,8 +204,7 @@ void run_contact_stage(const sim::Model& m, const Experiment& e, const std::vect
     for (const ContactStep& s : cs.fit.steps) models.push_back(model_after(start, s));
     std::vector<std::vector<std::vector<double>>> first, last;
     for (size_t i = 0; i < models.size(); ++i) {
-        if (options.progress && !options.progress("replay", double(i) / double(models.size())))
-            throw Error(MBX_ERROR_CANCELLED, Subject::model("calibration"), "calibration cancelled");
+        heartbeat("replay", double(i) / double(models.size()));
         std::vector<std::vector<std::vector<double>>> sim;
         for (size_t r = 0; r < records.size(); ++r) {
             const PoseRecord p = records[r].role == Role::Fit ? fit[size_t(std::find(cs.fit_trials.begin(), cs.fit_trials.end(), int(r)) - cs.fit_trials.begin())]

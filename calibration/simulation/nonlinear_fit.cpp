@@ -16,6 +16,7 @@
 #include "calibration/records/filters.h"
 #include "calibration/simulation/replay.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "sim/forward_dynamics.h"
 #include "sim/joint_forces.h"
 
@@ -250,6 +251,7 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
     S* r = out;
     try {
         for (size_t sample = 1; sample < w.n; ++sample) {
+            heartbeat();  // a cancel throws, and ends this evaluation as a failed one
             for (int sub = 0; sub < options.substeps; ++sub) {
                 const S half(step_seconds / 2), full(step_seconds), sixth(step_seconds / 6);
                 derivative(at, x, k1);
@@ -284,14 +286,16 @@ namespace {
 struct WindowCost {
     const SimulationProblem::Impl* problem;
     const Window* window;
+    const Heartbeat* heartbeat;  // the run's; Ceres' worker threads have none of their own
     template <class T> bool operator()(T const* const* parameters, T* residuals) const {
+        if (heartbeat && heartbeat->cancelled()) return false;
         return problem->simulate<T>(*window, parameters[0], problem->options.fit_start ? parameters[1] : nullptr,
                                     residuals);
     }
 };
 
 ceres::CostFunction* cost_of(const SimulationProblem::Impl* p, const Window* w) {
-    auto* f = new ceres::DynamicAutoDiffCostFunction<WindowCost, kFitStride>(new WindowCost{p, w});
+    auto* f = new ceres::DynamicAutoDiffCostFunction<WindowCost, kFitStride>(new WindowCost{p, w, current_heartbeat()});
     f->AddParameterBlock(p->parameters);
     if (p->options.fit_start) f->AddParameterBlock(p->start_size());
     f->SetNumResiduals(p->residuals_of(*w));

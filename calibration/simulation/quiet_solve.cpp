@@ -4,6 +4,9 @@
 
 #include <mutex>
 
+#include "core/finding.h"
+#include "core/heartbeat.h"
+
 namespace mbx::calibration {
 
 namespace {
@@ -37,11 +40,38 @@ private:
     bool held_ = false;
 };
 
+
+// Between iterations, on the solving thread: the run's progress, and a
+// cancel that a cost function saw (and answered with a failed evaluation,
+// as an exception must not cross Ceres) ends the solve.
+class HeartbeatCallback final : public ceres::IterationCallback {
+public:
+    explicit HeartbeatCallback(Heartbeat& h) : heartbeat_(h) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+        if (heartbeat_.cancelled()) return ceres::SOLVER_ABORT;
+        try {
+            heartbeat_.beat();
+        } catch (const Error&) {
+            return ceres::SOLVER_ABORT;
+        }
+        return ceres::SOLVER_CONTINUE;
+    }
+
+private:
+    Heartbeat& heartbeat_;
+};
+
 }  // namespace
 
 void solve_quietly(const ceres::Solver::Options& options, ceres::Problem* problem, ceres::Solver::Summary* summary) {
     GlogHold hold;
-    ceres::Solve(options, problem, summary);
+    Heartbeat* heartbeat = current_heartbeat();
+    if (!heartbeat) return ceres::Solve(options, problem, summary);
+    HeartbeatCallback callback(*heartbeat);
+    ceres::Solver::Options with_callback = options;
+    with_callback.callbacks.push_back(&callback);
+    ceres::Solve(with_callback, problem, summary);
+    heartbeat->throw_if_cancelled();
 }
 
 std::string solver_note(const ceres::Solver::Summary& summary, const std::string& what) {

@@ -17,6 +17,9 @@ namespace mbx::calibration {
 // not initialised glog itself (a host that has keeps its own settings and
 // files). Process-wide and reference counted: concurrent solves share one
 // hold, and the level the host had is put back when the last one ends.
+// Within a run with a heartbeat (core/heartbeat.h) the solve beats between
+// iterations and ends early on a cancel, which it then throws; cost
+// functions answer a cancel with a failed evaluation.
 void solve_quietly(const ceres::Solver::Options& options, ceres::Problem* problem, ceres::Solver::Summary* summary);
 
 // What a user needs to know of a solve that did not converge, in mbx's

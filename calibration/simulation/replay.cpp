@@ -8,6 +8,7 @@
 #include "calibration/identification/closed_chain.h"
 #include "calibration/records/filters.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "sim/transmission.h"
 #include "sim/dynamics.h"
 #include "sim/integrator.h"
@@ -41,6 +42,7 @@ double value_at(const Record& r, const std::vector<double>& v, double t) {
 }
 
 [[noreturn]] void diverged(const Record& r, double t, const Error& e) {
+    if (e.status() == MBX_ERROR_CANCELLED) throw e;
     std::ostringstream s;
     s << "replay of " << r.path << " diverged at t = " << t << " s: " << e.what();
     throw Error(MBX_ERROR_SIMULATION, e.subject(), s.str());
@@ -156,6 +158,7 @@ std::vector<std::vector<double>> closed_loop(const sim::Model& m, const Record& 
         for (size_t c = 0; c < compared.size(); ++c)
             if (compared[c].quantity != Quantity::Effort) out[c][k] = simulated_value(m, d, compared[c], adjust, bodies, r, k);
         const double t_next = k + 1 < n ? r.t[k + 1] : r.t[k] + r.sample_period();
+        heartbeat(double(k) / double(n));
         try {
             sim::advance(m, d, settings, t_next);
         } catch (const Error& e) {
@@ -196,6 +199,7 @@ void forward_windows(const sim::Model& m, const Record& r, const std::vector<Com
                                         value_at(r, s->values, r.t[k] - adjust.effort_delay[size_t(dof)])
                                   : 0.0;
             }
+            heartbeat(double(k) / double(n));
             try {
                 sim::advance(m, d, settings, r.t[k + 1]);
             } catch (const Error& e) {
@@ -231,6 +235,7 @@ void inverse_effort(const sim::Model& m, const Record& r, const std::vector<Comp
     Eigen::MatrixXd G;
     std::vector<std::vector<double>> tau_joint(size_t(m.nv), std::vector<double>(n, NAN));
     for (size_t k = 0; k < n; ++k) {
+        heartbeat(double(k) / double(n));
         qd.setZero(), qdd.setZero();
         for (int dof : chain.independent) {
             const int j = m.dof_joint[size_t(dof)];

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 #include <system_error>
+#include <tuple>
 
 #include "core/finding.h"
 
@@ -102,9 +103,8 @@ bool write_all(int fd, const std::string& contents) {
     return true;
 }
 
-// Writes a new temporary next to `path` and returns its name; fsyncs it when
-// `sync` (a batch syncs its file systems once instead, see write_all).
-std::string write_temporary(const std::string& path, const std::string& contents, bool sync) {
+// Creates a new temporary next to `path`: its name and open descriptor.
+std::pair<std::string, int> open_temporary(const std::string& path) {
     create_parent_directories(path);
     std::string tmp;
     int fd = -1;
@@ -114,13 +114,26 @@ std::string write_temporary(const std::string& path, const std::string& contents
         if (fd < 0 && errno != EEXIST && errno != EINTR) break;
     }
     if (fd < 0) fail(path, "Cannot create a temporary file next to '" + path + "'", errno);
+    return {tmp, fd};
+}
 
+// Syncs when asked and closes; 0 or the error.
+int close_temporary(int fd, bool sync) {
     // fsync before rename: otherwise a crash may leave the new name pointing
     // at an empty file on file systems that reorder metadata and data.
     int err = 0;
-    if (!write_all(fd, contents)) err = errno;
-    if (!err && sync && ::fsync(fd) != 0) err = errno;
+    if (sync && ::fsync(fd) != 0) err = errno;
     if (::close(fd) != 0 && !err && errno != EINTR) err = errno;
+    return err;
+}
+
+// Writes a new temporary next to `path` and returns its name; fsyncs it when
+// `sync` (a batch syncs its file systems once instead, see write_all).
+std::string write_temporary(const std::string& path, const std::string& contents, bool sync) {
+    const auto [tmp, fd] = open_temporary(path);
+    int err = write_all(fd, contents) ? 0 : errno;
+    const int closed = close_temporary(fd, sync && !err);
+    if (!err) err = closed;
     if (err) {
         ::unlink(tmp.c_str());
         fail(path, "Cannot write '" + path + "' (via the temporary '" + tmp + "')", err);
@@ -165,7 +178,8 @@ void remove_temporaries(const std::vector<Pending>& pending, std::size_t from) {
 // Both public functions in one: files are referenced, never copied.
 struct FileRef {
     const std::string* path;
-    const std::string* contents;
+    const std::string* contents;  // nullptr: `streamed` holds it
+    StreamedFile* streamed = nullptr;
 };
 
 // Flushes every file system holding one of `dirs` with one syncfs() each:
@@ -193,7 +207,7 @@ void write_all(const std::vector<FileRef>& files) {
     try {
         for (const FileRef& f : files) {
             pending.push_back({f.path, {}, {}, false});
-            pending.back().tmp = write_temporary(*f.path, *f.contents, !batch);
+            pending.back().tmp = f.streamed ? f.streamed->finish(!batch) : write_temporary(*f.path, *f.contents, !batch);
             dirs.insert(parent_directory(*f.path));
         }
         if (batch) {
@@ -230,6 +244,8 @@ void write_all(const std::vector<FileRef>& files) {
         fail(path, "Cannot replace '" + path + "' with its new contents", err);
     }
 
+    for (const FileRef& f : files)
+        if (f.streamed) f.streamed->committed();
     for (const Pending& p : pending)
         if (!p.backup.empty()) ::unlink(p.backup.c_str());
     for (const std::string& dir : dirs) {
@@ -249,6 +265,44 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::string
     refs.reserve(files.size());
     for (const auto& [path, contents] : files) refs.push_back({&path, &contents});
     write_all(refs);
+}
+
+void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files,
+                            const std::vector<StreamedFile*>& streamed) {
+    std::vector<FileRef> refs;
+    refs.reserve(files.size() + streamed.size());
+    for (StreamedFile* f : streamed) refs.push_back({&f->path(), nullptr, f});
+    for (const auto& [path, contents] : files) refs.push_back({&path, &contents});
+    write_all(refs);
+}
+
+StreamedFile::StreamedFile(std::string path) : path_(std::move(path)) {
+    std::tie(temporary_, fd_) = open_temporary(path_);
+}
+
+StreamedFile::~StreamedFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!temporary_.empty()) ::unlink(temporary_.c_str());
+}
+
+void StreamedFile::append(std::string_view text) {
+    buffer_.append(text);
+    if (buffer_.size() >= (std::size_t{1} << 20)) flush();
+}
+
+void StreamedFile::flush() {
+    if (fd_ < 0) fail(path_, "Cannot write '" + path_ + "' after it was finished", EBADF);
+    if (!write_all(fd_, buffer_)) fail(path_, "Cannot write '" + path_ + "' (via the temporary '" + temporary_ + "')", errno);
+    written_ += buffer_.size();
+    buffer_.clear();
+}
+
+const std::string& StreamedFile::finish(bool sync) {
+    flush();
+    const int err = close_temporary(fd_, sync);
+    fd_ = -1;
+    if (err) fail(path_, "Cannot write '" + path_ + "' (via the temporary '" + temporary_ + "')", err);
+    return temporary_;
 }
 
 }  // namespace mbx

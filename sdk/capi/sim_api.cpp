@@ -373,12 +373,12 @@ MBX_API mbx_status mbx_sim_run(mbx_context* context, mbx_sim_data* data, const m
         // On a copy of the data: a failed run leaves the data as it was, and
         // the contact's friction anchors with it.
         Data trial = data->data;
-        Trajectory trajectory;
+        RunFiles files(directory);
         std::optional<sim::contact::ContactWorld::Memory> contact;
         if (data->contact) contact = data->contact->memory();
         try {
-            const RunSummary summary = run(data->owner->model, trial, settings, trajectory);
-            write_run_files(directory, data->owner->model, trajectory, summary);
+            const RunSummary summary = run(data->owner->model, trial, settings, files);
+            files.commit(data->owner->model, summary);
         } catch (...) {
             if (contact) data->contact->restore(*contact);
             throw;

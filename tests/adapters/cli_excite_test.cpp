@@ -72,7 +72,7 @@ TEST_CASE("cli excite: the DFKI pendulum's references keep the URDF's limits at 
                                    "--evaluations 120 --sample-rate 500 --progress");
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
-    CHECK(r.err.find("mbx: excite 100%") != std::string::npos);
+    CHECK(r.err.find("mbx: excite 100.0%") != std::string::npos);
     for (const char* f : {"excitation.csv", "experiment.xml", "excitation.json", "excitation.html"})
         CHECK(fs::exists(fs::path(out) / f));
 

@@ -114,8 +114,8 @@ TEST_CASE("cli simulate: refusals exit non-zero, say why and write nothing") {
         {"fourbar -o '" + out + "' --stop-time 1 --step 0.003 --output-step 0.01", 1, "whole number of steps"},
         // Counts that would wrap or outgrow memory, refused before the run (they took 0 steps and
         // succeeded, or grew to 8 GB before the first step).
-        {"fourbar -o '" + out + "' --stop-time 1e17", 1, "the run would hold 1e+19 samples"},
-        {"fourbar -o '" + out + "' --stop-time 1e9 --integrator accurate", 1, "GiB: raise the output step"},
+        {"fourbar -o '" + out + "' --stop-time 1e17", 1, "the run would take 1e+19 output samples"},
+        {"fourbar -o '" + out + "' --stop-time 1e9 --integrator accurate", 1, "GiB free: raise the output step"},
         {"fourbar -o '" + out + "' --stop-time 1 --output-step 1e9", 1, "longer than the run"},
         {"fourbar -o '" + out + "' --stop-time 1000 --step 1e-12 --output-step 1", 1, "the run would take 1e+15 steps"},
         {"fourbar -o '" + out + "' --set rev_A.q=0.3 --set rev_B.q=0.3 --set rev_C.q=-1.5", 1, "loop"},

@@ -7,6 +7,7 @@
 
 #include <pugixml.hpp>
 
+#include <chrono>
 #include <fstream>
 
 #include "calibration/calibrate.h"
@@ -165,6 +166,53 @@ TEST_CASE("contact stage: calibrate() on the tosses names what the C++ contact f
         CHECK(x == 0);
         CHECK(z == mbx_test::relative(got.model.ground_offset, 1e-12));
     }
+}
+
+TEST_CASE("contact stage: progress every 100 ms through the contact fit, and a cancel in it ends calibrate() within 100 ms") {
+    using Clock = std::chrono::steady_clock;
+    const Cube cube;
+    mbx_test::TempDir dir("mbx_contact_progress");
+    std::ofstream(dir.file("tosses.xml")) << toss_experiment(cube.id, kFitTrials, kValidationTrials);
+    const calibration::Experiment e = calibration::load_experiment(dir.file("tosses.xml"));
+    calibration::CalibrateOptions options;
+    options.contact.shapes = {ground_plane(), box_shape(1, kCubeEdge)};
+    options.contact.default_settings = naive_contact();
+    options.contact.materials = {"default"};
+    const Clock::time_point start = Clock::now();
+    auto since = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    double last = 0, largest_gap = 0, gap_at = 0, contact_from = -1, cancelled_at = -1;
+    std::string gap_stage, stage_before;
+    int contact_calls = 0;
+    // Rollouts run on every core; the run's own thread reports between its
+    // own rollouts, so a slow build's longest rollout bounds the gap there.
+    const double allowed = kSlowBuild ? 0.5 : 0.1;
+    options.progress = [&](const char* stage, double) {
+        const double now = since();
+        if (now - last > largest_gap) largest_gap = now - last, gap_at = now, gap_stage = stage_before + " -> " + stage;
+        last = now;
+        stage_before = stage;
+        if (std::string(stage) != "contact") return true;
+        ++contact_calls;
+        if (contact_from < 0) contact_from = now;
+        if (now - contact_from < 1.0) return true;
+        cancelled_at = now;
+        return false;
+    };
+    try {
+        calibration::calibrate(*cube.mechanism, {}, e, options);
+        FAIL("the calibration ran to its end");
+    } catch (const Error& err) {
+        CHECK(err.status() == MBX_ERROR_CANCELLED);
+        CHECK(std::string(err.what()).find("'contact'") != std::string::npos);
+    }
+    const double stopped = since();
+    REQUIRE(cancelled_at > 0);
+    MESSAGE(contact_calls << " calls in the contact fit, largest gap " << 1e3 * largest_gap << " ms (" << gap_stage
+                          << ", ending at " << gap_at << " s), stopped "
+                          << 1e3 * (stopped - cancelled_at) << " ms after the cancel");
+    CHECK(contact_calls >= 10);
+    CHECK(largest_gap <= allowed);
+    CHECK(stopped - cancelled_at <= allowed);
 }
 
 TEST_CASE("contact stage: an experiment it cannot run is refused by name") {

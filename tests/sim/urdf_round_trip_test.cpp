@@ -12,6 +12,7 @@
 #include "sim/build_model.h"
 #include "sim/dynamics.h"
 #include "tests/export/test_inputs.h"
+#include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
 
