@@ -12,7 +12,9 @@ constexpr std::chrono::seconds kLineInterval{1};
 std::string duration_text(double s) {
     char buf[32];
     if (!std::isfinite(s)) return "?";
-    if (s < 90)
+    if (s < 10)
+        std::snprintf(buf, sizeof buf, "%.1f s", s);
+    else if (s < 90)
         std::snprintf(buf, sizeof buf, "%.0f s", s);
     else if (s < 5400)
         std::snprintf(buf, sizeof buf, "%.0f min", s / 60);

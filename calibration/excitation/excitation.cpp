@@ -9,6 +9,7 @@
 #include "calibration/cause_table.h"
 #include "calibration/identification/closed_chain.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "sim/dynamics.h"
 #include "sim/joint_forces.h"
 
@@ -581,12 +582,15 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     };
     // The criterion at x scaled to the limits (infinite: no motion of that
     // shape keeps them); `shape` is x at its joints' own kinematic limits.
+    Heartbeat beat(o.progress ? Heartbeat::Callback([&](const char*, double f) { return o.progress(f); }) : Heartbeat::Callback(),
+                   "the excitation design");
+    const HeartbeatScope beating(&beat);
+    beat.stage("excite", 0);
     auto evaluate = [&](const Eigen::VectorXd& given, Eigen::VectorXd& shape) -> double {
         shape = p.at_own_limits(given);
         Problem::Evaluated e = p.at_limits(shape);
         ++out.evaluations;
-        if (o.progress && !o.progress(double(out.evaluations) / o.evaluations))
-            throw Error(MBX_ERROR_CANCELLED, model, "excitation design cancelled");
+        beat.beat(double(out.evaluations) / o.evaluations);
         if (!e.ok) return INFINITY;
         const PredictedErrors predicted = criterion(e.rows);
         // The first motion is a random multi-sine within the same limits:
@@ -679,6 +683,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
         out.peak_acceleration.push_back(mo.qdd.col(c).cwiseAbs().maxCoeff());
         out.peak_effort.push_back(best.rows.model_effort.col(c).cwiseAbs().maxCoeff());
     }
+    beat.report_now(1);
     return out;
 }
 

@@ -363,6 +363,12 @@ MBX_VRML_COLD Eigen::Affine3d SceneBuilder::local_transform(const AstNode& n, co
     const Eigen::Vector3d center = vec3(n, "center", env, Eigen::Vector3d::Zero());
     const Eigen::AngleAxisd r = rotation(n, "rotation", env);
     const Eigen::AngleAxisd sr = rotation(n, "scaleOrientation", env);
+    // A zero scale folds everything below onto a plane, a line or a point:
+    // masses and contact shapes from such meshes are nothing, so say so.
+    if (s.x() == 0 || s.y() == 0 || s.z() == 0)
+        warn(*n.file, n.line, {n.type_name, ".scale (", s.x(), " ", s.y(), " ", s.z(),
+                               ") has a zero component: the geometry below it collapses to ",
+                               (s.array() == 0).count() == 1 ? "a plane" : (s.array() == 0).count() == 2 ? "a line" : "a point"});
     // T * C * R * SR * S * -SR * -C, clause 6.52.
     Eigen::Affine3d local = Eigen::Affine3d::Identity();
     local.translate(t + center);

@@ -2,6 +2,7 @@
 // forms), and that every refusal exits non-zero with a message and writes
 // nothing.
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -12,6 +13,7 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+#include "core/report/json_value.h"
 #include "tests/common/near.h"
 
 namespace MBX_UNITY_ID {
@@ -91,6 +93,48 @@ TEST_CASE("cli simulate: a set coordinate of the four-bar moves the others, and 
     const size_t at = json.find("\"max_loop_closure_residual\": ");
     REQUIRE(at != std::string::npos);
     CHECK(std::stod(json.substr(at + 29)) < 1e-9);
+}
+
+TEST_CASE("cli simulate --progress: a long run shows its fraction, simulated seconds per second and the time left") {
+    atest::TempDir dir("mbx_cli_progress");
+    const std::string out = dir.file("out");
+    // A run of about two seconds of wall time in this build, whatever its speed.
+    const Run probe = run_cli(dir, "simulate fourbar --set rev_A.qd=2 --step 1e-4 --stop-time 1 -o '" + out + "'");
+    REQUIRE(probe.code == 0);
+    const mbx::JsonValue json = mbx::parse_json(atest::read_file(out + "/simulation.json"));
+    const mbx::JsonValue* wall_time = json.find("wall_time");
+    REQUIRE(wall_time);
+    const double wall = wall_time->number;
+    REQUIRE(wall > 0);
+    const double stop = std::max(2.0, std::round(2.2 / wall));
+    const Run r = run_cli(dir, "simulate fourbar --set rev_A.qd=2 --step 1e-4 --stop-time " + std::to_string(int(stop)) +
+                                   " -o '" + out + "' --progress");
+    REQUIRE(r.code == 0);
+    MESSAGE(r.err);
+    std::vector<std::string> lines;
+    std::istringstream in(r.err);
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("mbx: simulating", 0) == 0) lines.push_back(line);
+    REQUIRE(lines.size() >= 3);
+    CHECK(lines.front() == "mbx: simulating 0.0%");
+    CHECK(lines.back().rfind("mbx: simulating 100.0%", 0) == 0);
+    CHECK(lines.back().find("took") != std::string::npos);
+    // A line a second in between, each with the run's own figures: the
+    // fraction, the simulated time it stands for, a rate and what is left.
+    double last_percent = 0;
+    for (size_t k = 1; k + 1 < lines.size(); ++k) {
+        CAPTURE(lines[k]);
+        double percent = 0, simulated = 0, of = 0, rate = 0;
+        REQUIRE(std::sscanf(lines[k].c_str(), "mbx: simulating %lf%%, %lf of %lf s simulated, %lf s simulated per second",
+                            &percent, &simulated, &of, &rate) == 4);
+        CHECK(percent > last_percent);
+        CHECK(percent < 100);
+        CHECK(of == stop);
+        CHECK(simulated == mbx_test::relative(percent / 100 * stop, 0.01));
+        CHECK(rate > 0);
+        CHECK(lines[k].find(" left") != std::string::npos);
+        last_percent = percent;
+    }
 }
 
 TEST_CASE("cli simulate: refusals exit non-zero, say why and write nothing") {

@@ -75,6 +75,21 @@ Group { children Shape { geometry IndexedFaceSet {
     CHECK(scene.warnings[0].find("faces.wrl:5: 2 face(s) with fewer than 3 vertices") != std::string::npos);
 }
 
+TEST_CASE("a Transform with a zero scale is a warning naming what the geometry collapses to, a normal one none") {
+    const VrmlScene scene = read_written(vrml(R"(
+Transform { scale 1 0 1 children Shape { geometry Box { size 1 1 1 } } }
+Transform { scale 0 0 0 children Shape { geometry Box { size 1 1 1 } } }
+Transform { scale 2 2 2 children Shape { geometry Box { size 1 1 1 } } }
+)"),
+                                         "flat.wrl");
+    for (const std::string& w : scene.warnings) MESSAGE(w);
+    REQUIRE(scene.warnings.size() == 2);
+    CHECK(scene.warnings[0].find("flat.wrl:3: Transform.scale (1 0 1) has a zero component: the geometry below it "
+                                 "collapses to a plane") != std::string::npos);
+    CHECK(scene.warnings[1].find("flat.wrl:4:") != std::string::npos);
+    CHECK(scene.warnings[1].find("collapses to a point") != std::string::npos);
+}
+
 TEST_CASE("DEF/USE reuses a Coordinate and a whole geometry node") {
     const VrmlScene scene = read_written(vrml(R"(
 Group { children [

@@ -142,8 +142,10 @@ MBX_API mbx_status mbx_context_last_error_info(const mbx_context *context, mbx_e
 
 /* Progress: `stage` is a static string ("pull bodies", "merge welds", ...),
  * fraction in [0,1] within the stage. Return non-zero to cancel; the running
- * call then returns MBX_ERROR_CANCELLED and produces nothing. Called at least
- * every few milliseconds of work, never more often than it is useful. */
+ * call then returns MBX_ERROR_CANCELLED and produces nothing. Long runs
+ * (mbx_sim_run, mbx_calibrate, mbx_excite) call it by wall time, about every
+ * 25 ms and always within 100 ms, whatever one step costs, and a cancel
+ * takes effect within that; translation calls it every 1024 items. */
 typedef int (*mbx_progress_fn)(void *user_data, const char *stage, double fraction);
 MBX_API mbx_status mbx_context_set_progress(mbx_context *context, mbx_progress_fn progress, void *user_data);
 
@@ -973,7 +975,10 @@ typedef struct mbx_sim_run_options {
  * each drive's target, output, current and effort) and simulation.json
  * (integrator, steps, evaluations, wall time, steps per second, largest
  * loop-closure residual, energy drift) as one unit: a failed or cancelled run
- * (the context's progress callback) writes nothing. */
+ * (the context's progress callback) writes nothing. The trajectory goes to
+ * disk as it is computed, so memory does not grow with the run; a run whose
+ * trajectory may not fit the folder's free space is refused before its first
+ * step (MBX_ERROR_INVALID_ARGUMENT, both sizes named). */
 MBX_API mbx_status mbx_sim_run(mbx_context *context, mbx_sim_data *data, const mbx_sim_run_options *options,
                                const char *directory);
 
@@ -1000,8 +1005,9 @@ typedef struct mbx_calibrate_options {
 
 /* Runs the whole loop on `mechanism` with its attached drives and joint
  * dynamics (mbx_mechanism_set_mechatronics). The context's progress
- * callback sees the stages "identify" and "replay" and may cancel
- * (MBX_ERROR_CANCELLED). Bad records or experiment files fail with
+ * callback sees the stages "records", "identify", "simulation fit" and
+ * "replay" (a contact experiment: "records", "contact", "replay") and may
+ * cancel (MBX_ERROR_CANCELLED). Bad records or experiment files fail with
  * MBX_ERROR_INVALID_INPUT naming file and line; a diverging replay with
  * MBX_ERROR_SIMULATION naming the record and time. Nothing is written on
  * failure. */
