@@ -9,6 +9,7 @@
 #include "calibration/simulation/transmission_stage.h"
 #include "core/finding.h"
 #include "core/heartbeat.h"
+#include "core/text_format.h"
 
 namespace mbx::calibration {
 
@@ -227,7 +228,7 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
         out.warnings.push_back("the calibrated model could not be replayed: its errors are those of inverse dynamics only");
     if (steps > 1 && f.simulated_validation > b.simulated_validation)
         out.warnings.push_back("the named causes lower the inverse-dynamics error but not the simulated validation error (" +
-                               std::to_string(b.simulated_validation) + " % -> " + std::to_string(f.simulated_validation) +
+                               readable(b.simulated_validation) + " % -> " + readable(f.simulated_validation) +
                                " %): the replay is limited by something the catalogue does not hold");
 
     for (size_t r = 0; r < records.size(); ++r) {

@@ -12,4 +12,8 @@ inline std::string formatted(const char* format, double a, double b = 0, double 
     return buf;
 }
 
+// A number as a message shows it: six significant figures ("1e+308", not
+// std::to_string's 309 digits; "2.5e-07", not "0.000000").
+inline std::string readable(double x) { return formatted("%.6g", x); }
+
 }  // namespace mbx

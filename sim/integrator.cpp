@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/heartbeat.h"
+#include "core/text_format.h"
 #include "sim/cvode_session.h"
 
 namespace mbx::sim {
@@ -66,7 +67,7 @@ double close_loops(const Model& m, Data& d, double tolerance, bool warm, Eigen::
         const LoopClosureT<double>& c = m.closures[size_t(worst < 0 ? 0 : worst)];
         throw Error(MBX_ERROR_INVALID_INPUT, c.subject(),
                     "the loop closed by cut joint '" + c.name + "' cannot be closed (residual " +
-                        std::to_string(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale) + ")");
+                        readable(d.residual.lpNorm<Eigen::Infinity>() * m.length_scale) + ")");
     }
     project_velocities(m, d, d.closure_factor, nullptr, false);
     if (warm) d.q_closed = d.q;
@@ -158,7 +159,7 @@ void fixed_step_unguarded(const Model& m, Data& d, const IntegratorSettings& set
     d.time += h;
     ++stats.steps;
     if (!(d.q.allFinite() && d.v.allFinite() && d.motor_q.allFinite() && d.motor_v.allFinite()))
-        check_finite_state(m, d, ("at t = " + std::to_string(d.time) + " s: the run diverged").c_str(), MBX_ERROR_SIMULATION);
+        check_finite_state(m, d, ("at t = " + readable(d.time) + " s: the run diverged").c_str(), MBX_ERROR_SIMULATION);
     const bool carry = settings.kind == IntegratorKind::Euler && !m.closures.empty();
     stats.max_closure_residual = std::max(stats.max_closure_residual,
                                           close_loops(m, d, settings.closure_tolerance, true, carry ? &d.closure_moved : nullptr));
@@ -222,7 +223,7 @@ void advance(const Model& m, Data& d, const IntegratorSettings& settings, double
     const double tolerance = 1e-9 * settings.step;
     if (!(span / settings.step < 9e15))
         throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject::model(m.name),
-                    "advancing by " + std::to_string(span) + " s in steps of " + std::to_string(settings.step) +
+                    "advancing by " + readable(span) + " s in steps of " + readable(settings.step) +
                         " s would take more steps than can be counted");
     const long long whole = (long long)std::floor((span + tolerance) / settings.step);
     for (long long k = 1; k <= whole; ++k) {

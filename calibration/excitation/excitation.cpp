@@ -10,6 +10,7 @@
 #include "calibration/identification/closed_chain.h"
 #include "core/finding.h"
 #include "core/heartbeat.h"
+#include "core/text_format.h"
 #include "sim/dynamics.h"
 #include "sim/joint_forces.h"
 
@@ -519,7 +520,7 @@ ExcitationDesign design_excitation(const sim::Model& m, const std::vector<int>& 
     // Identify's rows: about four per cutoff period.
     const double rows_per_second = o.sample_rate / std::max(1.0, std::floor(o.sample_rate / (4 * fc)));
     if (o.harmonics / o.period > fc / 2)
-        refuse("the highest harmonic (" + std::to_string(o.harmonics / o.period) + " Hz) is above half the records' filter cutoff");
+        refuse("the highest harmonic (" + readable(o.harmonics / o.period) + " Hz) is above half the records' filter cutoff");
     {
         std::vector<double> times;
         for (int k = 0; k < o.samples_per_period; ++k) times.push_back(o.period * k / o.samples_per_period);

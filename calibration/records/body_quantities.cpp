@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/finding.h"
+#include "core/text_format.h"
 #include "sim/dynamics.h"
 
 namespace mbx::calibration {
@@ -156,7 +157,7 @@ PoseSample measured_pose(const Record& r, int body, size_t k) {
     if (!(s.q.norm() > 1e-6))
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("experiment"),
                     r.path + ": the measured orientation of body " + std::to_string(body) + " at t = " +
-                        std::to_string(r.t[k]) + " s is a zero quaternion");
+                        readable(r.t[k]) + " s is a zero quaternion");
     s.q.normalize();
     if (all_components(r, Quantity::AngularVelocity, body, 3, origin)) {
         for (int c = 0; c < 3; ++c) s.w[c] = r.find_body(Quantity::AngularVelocity, body, c, origin)->values[k];

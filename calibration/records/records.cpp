@@ -6,6 +6,7 @@
 #include "calibration/records/body_quantities.h"
 #include "core/finding.h"
 #include "core/heartbeat.h"
+#include "core/text_format.h"
 #include "sim/simulation.h"
 
 namespace mbx::calibration {
@@ -80,7 +81,7 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
             std::vector<std::vector<size_t>> rows;
             for (size_t k = 0; k < t_raw.size(); ++k) {
                 const double v = table.columns[size_t(trial)][k];
-                if (v != std::floor(v)) fail(rs.path, int(k) + 2, "trial id " + std::to_string(v) + " is not an integer");
+                if (v != std::floor(v)) fail(rs.path, int(k) + 2, "trial id " + readable(v) + " is not an integer");
                 const auto [it, added] = index.emplace((long long)v, ids.size());
                 if (added) ids.push_back((long long)v), rows.emplace_back();
                 rows[it->second].push_back(k);

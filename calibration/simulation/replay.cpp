@@ -9,6 +9,7 @@
 #include "calibration/records/filters.h"
 #include "core/finding.h"
 #include "core/heartbeat.h"
+#include "core/text_format.h"
 #include "sim/transmission.h"
 #include "sim/dynamics.h"
 #include "sim/integrator.h"
@@ -247,7 +248,7 @@ void inverse_effort(const sim::Model& m, const Record& r, const std::vector<Comp
             try {
                 chain.close(m, d, qd, qdd, G);
             } catch (const Error& e) {
-                throw Error(e.status(), e.subject(), r.path + " at t = " + std::to_string(r.t[k]) + " s: " + e.what());
+                throw Error(e.status(), e.subject(), r.path + " at t = " + readable(r.t[k]) + " s: " + e.what());
             }
         }
         d.v = qd;

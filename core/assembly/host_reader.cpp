@@ -4,6 +4,8 @@
 #include <cstring>
 #include <unordered_map>
 
+#include "core/text_format.h"
+
 namespace mbx {
 namespace {
 
@@ -144,14 +146,14 @@ private:
         if (err > options_.orthonormality_limit || !nearest_rotation(m, fixed))
             throw Error(MBX_ERROR_INVALID_INPUT, subject,
                         std::string("the ") + what + " rotation of " + subject_kind_name(subject.kind) + " '" +
-                            subject.id + "' is not a rotation (max |R^T R - I| = " + std::to_string(err) +
+                            subject.id + "' is not a rotation (max |R^T R - I| = " + readable(err) +
                             (m.determinant() <= 0 ? ", determinant <= 0: a reflection" : "") + ")");
         if (err > options_.orthonormality_tolerance)
             findings_.push_back(warning(MBX_FINDING_ROTATION_REORTHONORMALIZED, subject,
                                  std::string("the ") + what + " rotation of '" + subject.id +
-                                     "' was re-orthonormalized (max |R^T R - I| = " + std::to_string(err) +
+                                     "' was re-orthonormalized (max |R^T R - I| = " + readable(err) +
                                      ", above the rounding tolerance " +
-                                     std::to_string(options_.orthonormality_tolerance) + ")"));
+                                     readable(options_.orthonormality_tolerance) + ")"));
         return fixed;
     }
 
@@ -365,8 +367,8 @@ private:
             const double scale = p.type == MBX_PRIMITIVE_PRISMATIC ? frame_length_unit_[size_t(c.base_frame)] : 1.0;
             if (d.lower > d.upper) {
                 findings_.push_back(warning(MBX_FINDING_LIMITS_INVERTED, s,
-                                     where + " has lower limit " + std::to_string(d.lower) + " above upper limit " +
-                                         std::to_string(d.upper) + "; the limits are ignored"));
+                                     where + " has lower limit " + readable(d.lower) + " above upper limit " +
+                                         readable(d.upper) + "; the limits are ignored"));
             } else {
                 p.has_limits = true;
                 p.lower = d.lower * scale;

@@ -13,6 +13,7 @@
 
 #include "core/input_file.h"
 #include "core/mechatronics/xml_text.h"
+#include "core/text_format.h"
 
 namespace mbx {
 
@@ -384,7 +385,7 @@ private:
             MotionPoint mp{number(p, "t", 0, who), number(p, "q", 0, who) * factor};
             if (!points.empty() && !(mp.time > points.back().time)) {
                 error(p, who, "motion times must increase strictly (t = " + std::string(p.attribute("t").as_string()) +
-                                  " after " + std::to_string(points.back().time) + ")");
+                                  " after " + readable(points.back().time) + ")");
                 continue;
             }
             points.push_back(mp);

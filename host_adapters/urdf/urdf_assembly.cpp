@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "core/text_format.h"
 #include "host_adapters/common/file_error.h"
 
 namespace mbx_files {
@@ -216,7 +217,7 @@ UrdfAssembly to_assembly(const UrdfModel& model, const UrdfAssemblyOptions& opti
             d.file = model.file;
             d.line = j.mimic_line;
             d.message = "joint " + quoted(j.name) + " mimics " + quoted(j.mimic_joint) +
-                        " (its position = " + std::to_string(j.mimic_multiplier) + " x that one's + " +
+                        " (its position = " + mbx::readable(j.mimic_multiplier) + " x that one's + " +
                         std::to_string(j.mimic_offset) +
                         "); mbx keeps it a joint of its own, free to move: couple it with a drive in the description "
                         "file if the coupling matters";

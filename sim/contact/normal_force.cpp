@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/finding.h"
+#include "core/text_format.h"
 
 namespace mbx::sim::contact {
 
@@ -33,7 +34,7 @@ double damping_for_restitution(NormalLaw law, double mass, double v, double e) {
         !(law.stiffness > 0) || !(law.exponent >= 1))
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("contact"),
                     "restitution " + std::to_string(e) + " for mass " + std::to_string(mass) + " at " +
-                        std::to_string(v) + " m/s: every value must be a non-negative number (mass and speed positive)");
+                        readable(v) + " m/s: every value must be a non-negative number (mass and speed positive)");
     if (law.model == NormalModel::Spring) return 0;
     e = std::clamp(e, 0.01, 1.0);
     law.damping = 0;

@@ -201,6 +201,19 @@ TEST_CASE("inverted limits are dropped with a warning") {
     CHECK(f[0].code == MBX_FINDING_LIMITS_INVERTED);
 }
 
+TEST_CASE("figures in messages are readable: limits of 1e308 are not printed as 309 digits") {
+    mbx_stub::Assembly a = small_assembly();
+    a.constraints[0].chain[0].lower = 1e308;
+    a.constraints[0].chain[0].upper = 2.5e-7;
+    mbx_stub::Host host(a);
+    Findings f;
+    read(host, f);
+    REQUIRE(f.size() == 1);
+    CHECK(f[0].message.find("has lower limit 1e+308 above upper limit 2.5e-07; the limits are ignored") !=
+          std::string::npos);
+    CHECK(f[0].message.size() < 120);
+}
+
 TEST_CASE("host tables too small or without required callbacks are refused") {
     mbx_stub::Host host(small_assembly());
     mbx_host table = *host.table();
