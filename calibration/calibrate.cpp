@@ -157,12 +157,22 @@ CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base
     beat.stage("identify", 0);
     // Inverse dynamics sees a transmission the model has in its rigid limit.
     const sim::Model rigid = rigid_limit(base_model);
-    const RegressionRows fit = regression_rows(rigid, fit_records, options.identify);
-    const RegressionRows validation = regression_rows(rigid, validation_records, options.identify, &fit.weight);
+    // The stage's fraction: the rows, then the forward selection's rounds.
+    const RegressionRows fit = [&] {
+        const HeartbeatShare share(0, 0.2);
+        return regression_rows(rigid, fit_records, options.identify);
+    }();
+    const RegressionRows validation = [&] {
+        const HeartbeatShare share(0.2, 0.3);
+        return regression_rows(rigid, validation_records, options.identify, &fit.weight);
+    }();
     IdentifyOptions identify_options = options.identify;
     const double floor = noise_floor(rigid, validation, validation_records);
     if (std::isnan(identify_options.noise_level)) identify_options.noise_level = floor;
-    out.identification = identify(rigid, fit, validation, identify_options);
+    out.identification = [&] {
+        const HeartbeatShare share(0.3, 1);
+        return identify(rigid, fit, validation, identify_options);
+    }();
     out.identification.noise_level = floor;
     beat.stage("simulation fit", 0);
     const Identification linear = out.identification;

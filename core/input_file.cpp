@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <vector>
 
 #include "core/heartbeat.h"
 #include "core/text_format.h"
@@ -55,7 +56,7 @@ std::string input_file_problem(const std::string& path, uint64_t* size) {
     return "";
 }
 
-bool read_input_file(const std::string& path, std::string& out, std::string& why) {
+bool read_input_pieces(const std::string& path, const std::function<void(std::string_view)>& piece, std::string& why) {
     uint64_t size = 0;
     why = input_file_problem(path, &size);
     if (!why.empty()) return false;
@@ -64,28 +65,32 @@ bool read_input_file(const std::string& path, std::string& out, std::string& why
         why = std::string("cannot open it: ") + std::strerror(errno);
         return false;
     }
-    // Its size as stat saw it, and no more than the limit should it grow.
+    // Pieces of 4 MiB (a small file in one): a run reading a record of
+    // gigabytes still reports, and its reader need not hold it whole. No more
+    // than the limit is read, should the file grow while it is read.
     const uint64_t limit = input_size_limit();
-    out.assign(size_t(size), '\0');
-    // In pieces, so that a run reading a record of gigabytes still reports.
-    constexpr uint64_t kPiece = uint64_t(1) << 22;
-    uint64_t got = 0;
-    while (got < size && in) {
-        heartbeat();
-        in.read(out.data() + got, std::streamsize(std::min(kPiece, size - got)));
-        got += uint64_t(in.gcount());
-    }
-    out.resize(size_t(got));
-    char extra[4096];
-    while (in.read(extra, sizeof extra) || in.gcount() > 0) {
-        if (out.size() + size_t(in.gcount()) > limit) {
+    std::vector<char> buffer(size_t(std::min<uint64_t>(uint64_t(1) << 22, size + 4096)));
+    uint64_t total = 0;
+    while (in.read(buffer.data(), std::streamsize(buffer.size())) || in.gcount() > 0) {
+        const uint64_t n = uint64_t(in.gcount());
+        if (total + n > limit) {
             why = "it grew past the input limit of " + size_text(limit) + " while it was read";
-            out.clear();
             return false;
         }
-        out.append(extra, size_t(in.gcount()));
+        total += n;
+        heartbeat();
+        piece(std::string_view(buffer.data(), size_t(n)));
     }
     return true;
+}
+
+bool read_input_file(const std::string& path, std::string& out, std::string& why) {
+    out.clear();
+    uint64_t size = 0;
+    if (input_file_problem(path, &size).empty()) out.reserve(size_t(size));
+    if (read_input_pieces(path, [&](std::string_view piece) { out.append(piece); }, why)) return true;
+    out.clear();
+    return false;
 }
 
 }  // namespace mbx

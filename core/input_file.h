@@ -4,7 +4,9 @@
 // out, and a directory would read as an empty file.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <string_view>
 
 namespace mbx {
 
@@ -21,5 +23,9 @@ std::string input_file_problem(const std::string& path, uint64_t* size = nullptr
 // failure) when it cannot be read. Never reads past the limit, even from a
 // file that grows while it is read.
 bool read_input_file(const std::string& path, std::string& out, std::string& why);
+
+// The same in pieces of a few MiB, each handed to `piece` as it is read, for
+// a reader that keeps only what it makes of them (a record's numbers).
+bool read_input_pieces(const std::string& path, const std::function<void(std::string_view)>& piece, std::string& why);
 
 }  // namespace mbx

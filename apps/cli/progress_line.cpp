@@ -58,6 +58,8 @@ void ProgressLine::print(const char* stage, double fraction, std::chrono::steady
         }
         if (fraction < 1) line += ", " + duration_text(elapsed * (1 - fraction) / fraction) + " left";
         else line += ", took " + duration_text(elapsed);
+    } else if (elapsed >= 0.5) {
+        line += ", " + duration_text(elapsed) + " so far";  // a stage that cannot yet say how far it is
     }
     std::fprintf(stderr, "%s\n", line.c_str());
 }

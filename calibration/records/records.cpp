@@ -63,7 +63,10 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
     }
     std::vector<Record> out;
     for (const RecordSpec& rs : e.records) {
-        const Table table = read_csv(rs.path);
+        // The records stage's progress: this file's share, read as it is parsed.
+        const double done = double(&rs - e.records.data()), files = double(e.records.size());
+        const HeartbeatShare share(done / files, (done + 1) / files);
+        Table table = read_csv(rs.path);
         const int tc = table.column(e.time_column);
         if (tc < 0) fail(rs.path, 1, "no time column '" + e.time_column + "' (" + e.path + ":" + std::to_string(rs.line) + ")");
         const std::vector<double>& t_raw = table.columns[size_t(tc)];
@@ -94,6 +97,13 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
                 parts.emplace_back(rs.path + "#" + std::to_string(id), rows[it->second]);
             }
         }
+        // The binding that reads each column last (it may take the column whole).
+        std::vector<const Binding*> last_use(table.columns.size(), nullptr);
+        for (const Binding& b : bindings) {
+            const int c = table.column(b.spec->name);
+            if (c >= 0 && c != tc) last_use[size_t(c)] = &b;
+        }
+        const bool whole = e.trial_column.empty();
         // A trial is short (a toss lasts a second), and its samples serve a rollout, not identification.
         const size_t minimum = e.trial_column.empty() ? kMinimumSamples : kMinimumTrialSamples;
         for (const auto& [path, all_rows] : parts) {
@@ -125,8 +135,17 @@ std::vector<Record> load_records(const Experiment& e, const sim::Model& m) {
                                          std::to_string(b.spec->line) + ")");
                 }
                 std::vector<double> values;
-                values.reserve(rows.size());
-                for (size_t k : rows) values.push_back(table.columns[size_t(c)][k] * b.factor);
+                std::vector<double>& column = table.columns[size_t(c)];
+                if (whole && parts.size() == 1 && rows.size() == column.size() && last_use[size_t(c)] == &b) {
+                    // A record of millions of rows: its column becomes the
+                    // signal, not a second copy of it.
+                    values = std::move(column);
+                    if (b.factor != 1)
+                        for (double& v : values) v *= b.factor;
+                } else {
+                    values.reserve(rows.size());
+                    for (size_t k : rows) values.push_back(column[k] * b.factor);
+                }
                 if (b.body >= 0) {
                     BodySignal s;
                     s.quantity = b.spec->quantity, s.body = b.body, s.component = b.spec->component, s.column = b.spec->name;
