@@ -64,6 +64,12 @@ void score(const Experiment& e, const std::vector<Record>& records, const std::v
                 nn += reference[k] * reference[k];
                 ++count;
             }
+            // Sums of squares of values beyond 1e150 overflow: an error of
+            // "inf %" or "nan %" would read as a result. Say which signal.
+            if (!std::isfinite(ee) || !std::isfinite(nn))
+                throw Error(MBX_ERROR_INVALID_INPUT, Subject::model("experiment"),
+                            rec.path + ": the error of the compared " + quantity_name(cs.quantity) +
+                                " overflows (its sum of squares is not finite): measured or simulated values beyond 1e150");
             SignalError se;
             se.record = int(r), se.role = rec.role, se.joint = cs.joint, se.quantity = cs.quantity, se.weight = cs.weight;
             se.body = cs.body, se.component = cs.component, se.point = cs.point;

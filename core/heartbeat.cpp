@@ -78,9 +78,12 @@ HeartbeatShare::~HeartbeatShare() { current_share = outer_; }
 void heartbeat(double part_fraction) {
     Heartbeat* h = current;
     if (!h) return;
-    const double f = std::clamp(part_fraction, 0.0, 1.0);
+    // Outside any share the part's fraction says nothing of the stage's (a
+    // loop reused by another stage): an item done, no more.
     const HeartbeatShare* share = current_share;
-    h->beat(share ? share->from_ + f * (share->to_ - share->from_) : f);
+    if (!share) return h->beat();
+    const double f = std::clamp(part_fraction, 0.0, 1.0);
+    h->beat(share->from_ + f * (share->to_ - share->from_));
 }
 
 }  // namespace mbx

@@ -98,8 +98,10 @@ inline void heartbeat() {
     if (Heartbeat* h = current_heartbeat()) h->beat();
 }
 
-// One item done, the innermost HeartbeatShare's part (the stage when none)
-// at `part_fraction`.
+// One item done, the innermost HeartbeatShare's part at `part_fraction`.
+// Without a share it is an item done and no more: a loop tells its fraction
+// only where its caller gave it a share of the stage (a loop reused by
+// another stage must not move that stage's fraction back and forth).
 void heartbeat(double part_fraction);
 
 // The current run is at `fraction` of stage `stage`: a new stage reports at
