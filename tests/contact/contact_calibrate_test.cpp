@@ -74,18 +74,28 @@ sim::contact::ContactSettings naive_contact() {
 const char* kFitTrials = kSlowBuild ? "0-380/190" : "0-500/100";
 const char* kValidationTrials = kSlowBuild ? "95 285" : "30-530/125";
 
+// The experiment of kFitTrials and kValidationTrials, written into `dir`.
+calibration::Experiment few_tosses(const mbx_test::TempDir& dir, const Cube& cube) {
+    std::ofstream(dir.file("tosses.xml")) << toss_experiment(cube.id, kFitTrials, kValidationTrials);
+    return calibration::load_experiment(dir.file("tosses.xml"));
+}
+
+// The cube on the ground plane with the naive contact as its only material.
+calibration::CalibrateOptions naive_cube_contact() {
+    calibration::CalibrateOptions options;
+    options.contact.shapes = {ground_plane(), box_shape(1, kCubeEdge)};
+    options.contact.default_settings = naive_contact();
+    options.contact.materials = {"default"};
+    return options;
+}
+
 }  // namespace
 
 TEST_CASE("contact stage: calibrate() on the tosses names what the C++ contact fit names, and writes it") {
     const Cube cube;
     mbx_test::TempDir dir("mbx_contact_stage");
-    std::ofstream(dir.file("tosses.xml")) << toss_experiment(cube.id, kFitTrials, kValidationTrials);
-    const calibration::Experiment e = calibration::load_experiment(dir.file("tosses.xml"));
-
-    calibration::CalibrateOptions options;
-    options.contact.shapes = {ground_plane(), box_shape(1, kCubeEdge)};
-    options.contact.default_settings = naive_contact();
-    options.contact.materials = {"default"};
+    const calibration::Experiment e = few_tosses(dir, cube);
+    calibration::CalibrateOptions options = naive_cube_contact();
     const calibration::CalibrationResult r = calibration::calibrate(*cube.mechanism, {}, e, options);
     REQUIRE(r.contact.ran);
     CHECK(r.contact.body == 1);
@@ -172,12 +182,8 @@ TEST_CASE("contact stage: progress every 100 ms through the contact fit, and a c
     using Clock = std::chrono::steady_clock;
     const Cube cube;
     mbx_test::TempDir dir("mbx_contact_progress");
-    std::ofstream(dir.file("tosses.xml")) << toss_experiment(cube.id, kFitTrials, kValidationTrials);
-    const calibration::Experiment e = calibration::load_experiment(dir.file("tosses.xml"));
-    calibration::CalibrateOptions options;
-    options.contact.shapes = {ground_plane(), box_shape(1, kCubeEdge)};
-    options.contact.default_settings = naive_contact();
-    options.contact.materials = {"default"};
+    const calibration::Experiment e = few_tosses(dir, cube);
+    calibration::CalibrateOptions options = naive_cube_contact();
     const Clock::time_point start = Clock::now();
     auto since = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
     double last = 0, largest_gap = 0, gap_at = 0, contact_from = -1, cancelled_at = -1;
