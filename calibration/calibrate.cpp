@@ -136,7 +136,7 @@ std::vector<ResidualCloud> residual_clouds(const sim::Model& m, const Regression
 CalibrationResult calibrate(const Mechanism& mech, const sim::BuildOptions& base, const Experiment& e,
                             const CalibrateOptions& options) {
     const auto started = std::chrono::steady_clock::now();
-    Heartbeat beat(options.progress ? Heartbeat::Callback(options.progress) : Heartbeat::Callback(), "the calibration");
+    Heartbeat beat(options.progress, "the calibration");
     HeartbeatScope beating(&beat);
     beat.stage("records", 0);
     CalibrationResult out;

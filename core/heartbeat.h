@@ -57,7 +57,6 @@ public:
     // Reports now, whatever the time since the last call (the end of a run).
     void report_now(double fraction);
 
-    double fraction() const { return fraction_; }
     const char* stage_name() const { return stage_; }
     // The longest wall time between two calls of the callback so far (s).
     double longest_gap() const { return longest_gap_; }

@@ -208,7 +208,6 @@ void RunFiles::open(const std::vector<std::string>& names, double rows) {
         }
     }
     columns_ = names.size();
-    rows_ = 0;
     line_.clear();
     for (size_t c = 0; c < names.size(); ++c) {
         if (c) line_ += ',';
@@ -228,7 +227,6 @@ void RunFiles::add(const double* row) {
     }
     line_ += '\n';
     csv_->append(line_);
-    ++rows_;
 }
 
 void RunFiles::commit(const Model& m, const RunSummary& s) {
@@ -241,7 +239,7 @@ void RunFiles::commit(const Model& m, const RunSummary& s) {
     w.key("step").value(s.step);
     if (s.integrator == "accurate") w.key("tolerance").value(s.tolerance);
     w.key("output_step").value(s.output_step);
-    w.key("samples").value(rows_);
+    w.key("samples").value(s.samples);
     w.key("steps").value(s.stats.steps);
     w.key("function_evaluations").value(s.stats.evaluations);
     w.key("friction_mode_switches").value(s.stats.mode_switches);

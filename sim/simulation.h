@@ -102,7 +102,6 @@ private:
     std::unique_ptr<StreamedFile> csv_;
     std::string line_;
     size_t columns_ = 0;
-    unsigned long long rows_ = 0;
 };
 
 // The trajectory's column names for a model (joint coordinates, then drives).

@@ -293,7 +293,6 @@ void StreamedFile::append(std::string_view text) {
 void StreamedFile::flush() {
     if (fd_ < 0) fail(path_, "Cannot write '" + path_ + "' after it was finished", EBADF);
     if (!write_all(fd_, buffer_)) fail(path_, "Cannot write '" + path_ + "' (via the temporary '" + temporary_ + "')", errno);
-    written_ += buffer_.size();
     buffer_.clear();
 }
 

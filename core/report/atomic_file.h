@@ -37,7 +37,6 @@ public:
     // disk refuses it (full, gone).
     void append(std::string_view text);
     const std::string& path() const { return path_; }
-    unsigned long long size() const { return written_ + buffer_.size(); }
 
     // Writes what is buffered, syncs when asked and closes; the name of the
     // temporary (for write_files_atomically).
@@ -50,7 +49,6 @@ private:
 
     std::string path_, temporary_, buffer_;
     int fd_ = -1;
-    unsigned long long written_ = 0;
 };
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::string>>& files,
