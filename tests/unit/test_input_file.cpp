@@ -13,7 +13,9 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
+#include "core/csv_table.h"
 #include "core/input_file.h"
 
 namespace MBX_UNITY_ID {
@@ -105,6 +107,41 @@ TEST_CASE("input files: a file above the input limit is refused with both sizes 
         // A limit that is not a number leaves the default, never no limit.
         ScopedEnv junk("MBX_INPUT_LIMIT_MB", "lots");
         CHECK(mbx::input_size_limit() == uint64_t(2048) * 1024 * 1024);
+    }
+    fs::remove_all(dir);
+}
+
+TEST_CASE("records: a file read in 4 MiB pieces gives every row, a line split across pieces included, as its text does") {
+    const fs::path dir = fs::temp_directory_path() / ("mbx_csv_pieces_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string path = (dir / "long.csv").string();
+    // About 9 MB, CRLF line ends, no newline after the last row: rows cross
+    // both piece boundaries at whatever offset their lengths put them.
+    std::string text = "\xEF\xBB\xBFt,k,x\r\n";
+    const long rows = 300000;
+    for (long k = 0; k < rows; ++k) {
+        text += std::to_string(k) + "," + std::to_string(3 * k) + ",0.25";
+        if (k + 1 < rows) text += "\r\n";
+    }
+    std::ofstream(path, std::ios::binary) << text;
+    const mbx::CsvTable t = mbx::read_csv_table(path, mbx::Subject::model(""));
+    REQUIRE(t.header == std::vector<std::string>{"t", "k", "x"});
+    REQUIRE(t.columns.size() == 3);
+    REQUIRE(long(t.columns[0].size()) == rows);
+    long wrong = 0;
+    for (long k = 0; k < rows; ++k)
+        wrong += t.columns[0][size_t(k)] != double(k) || t.columns[1][size_t(k)] != double(3 * k) || t.columns[2][size_t(k)] != 0.25;
+    CHECK(wrong == 0);
+    const mbx::CsvTable whole = mbx::read_csv_table_text(text, path, mbx::Subject::model(""));
+    CHECK(whole.columns == t.columns);
+    // A bad cell past the first piece is named by its line.
+    text.replace(text.find("\r\n250000,"), 9, "\r\nx50000,");
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+    try {
+        mbx::read_csv_table(path, mbx::Subject::model(""));
+        FAIL("the bad cell was read");
+    } catch (const mbx::Error& e) {
+        CHECK(std::string(e.what()).find("long.csv:250002: column 't' is not a finite number") != std::string::npos);
     }
     fs::remove_all(dir);
 }
