@@ -9,6 +9,7 @@
 #include "calibration/records/filters.h"
 #include "calibration/simulation/model_extension.h"
 #include "core/finding.h"
+#include "core/heartbeat.h"
 #include "core/mechatronics/body_mass.h"
 #include "core/mechatronics/mounting.h"
 
@@ -48,7 +49,10 @@ template <class F> Eigen::VectorXd filtered_law(const RegressionRows& rows, int 
     for (size_t r = 0; r < law.size(); ++r) {
         const Eigen::MatrixXd& v = rows.record_velocity[r];
         std::vector<double> x(size_t(v.rows()));
-        for (Eigen::Index k = 0; k < v.rows(); ++k) x[size_t(k)] = f(v(k, dof));
+        for (Eigen::Index k = 0; k < v.rows(); ++k) {
+            if ((k & 4095) == 0) heartbeat();
+            x[size_t(k)] = f(v(k, dof));
+        }
         law[r] = low_pass(x, rows.record_period[r], rows.record_cutoff[r]);
     }
     for (Eigen::Index s = 0; s < rows.samples; ++s)

@@ -60,7 +60,7 @@ RegressionRows rows_along(const sim::Model& m, ClosedChain& chain, const std::ve
     RegressionRows rows;
     rows.actuated = dofs;
     const Eigen::Index na = Eigen::Index(dofs.size());
-    std::vector<RowSample> samples(motion.t.size());
+    std::deque<RowSample> samples(motion.t.size());
     for (size_t k = 0; k < samples.size(); ++k) {
         RowSample& s = samples[k];
         s.first = k == 0;

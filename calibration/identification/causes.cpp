@@ -6,6 +6,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "calibration/cause_table.h"
+#include "calibration/identification/tall_qr.h"
+#include "core/heartbeat.h"
 #include "core/mechatronics/body_mass.h"
 
 namespace mbx::calibration {
@@ -46,12 +48,21 @@ Eigen::Matrix<double, kInertialParameters, 6> inertia_directions() {
 
 // Of a family of directions, those whose effort the records can tell apart
 // (a shift along a joint axis of a planar arm changes no effort): a
-// column-pivoted QR of their weighted columns, in pivot order.
+// column-pivoted QR of their weighted columns, in pivot order (of their R,
+// by blocks of rows: the same pivots, as Q keeps every column's norm).
 std::vector<int> identifiable(const RegressionRows& rows, int body, const Eigen::MatrixXd& directions) {
     const Eigen::Index A = Eigen::Index(rows.actuated.size());
-    Eigen::MatrixXd cols = rows.inertial_regressor[size_t(body)] * directions;
-    for (Eigen::Index r = 0; r < cols.rows(); ++r) cols.row(r) *= rows.weight[size_t(r % A)];
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(cols);
+    const Eigen::MatrixXd& regressor = rows.inertial_regressor[size_t(body)];
+    const Eigen::Index block = tall_block_rows(A);
+    TallR tall(directions.cols());
+    Eigen::MatrixXd cols;
+    for (Eigen::Index from = 0; from < regressor.rows(); from += block) {
+        heartbeat();
+        cols = regressor.middleRows(from, std::min(block, regressor.rows() - from)) * directions;
+        for (Eigen::Index r = 0; r < cols.rows(); ++r) cols.row(r) *= rows.weight[size_t((from + r) % A)];
+        tall.add(cols);
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(tall.R());
     qr.setThreshold(1e-6);
     std::vector<int> out;
     for (Eigen::Index k = 0; k < qr.rank(); ++k) out.push_back(int(qr.colsPermutation().indices()[k]));

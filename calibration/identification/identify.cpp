@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "calibration/cause_table.h"
+#include "calibration/identification/tall_qr.h"
 #include "core/finding.h"
 #include "core/heartbeat.h"
 
@@ -15,6 +16,7 @@ namespace {
 struct Fit {
     Eigen::VectorXd theta;
     Eigen::MatrixXd covariance;
+    Eigen::MatrixXd R;  // of the regressors [X xk], by tall_r
     double sse_fit = 0, sse_validation = 0;
     bool ok = false;
 };
@@ -38,9 +40,13 @@ void to_recorded_units(Eigen::VectorXd& r, const Eigen::MatrixXd& X, const Eigen
     }
 }
 
-// Least squares of y on X (column-pivoted QR: collinear columns give a
-// rank-deficient fit, which is reported as not ok); the errors' sums of
-// squares in the recorded effort's units (`gain`: X's actuator-gain columns).
+using Part = Eigen::Ref<const Eigen::MatrixXd>;
+
+// Least squares of y on [X xk] (the causes named so far and a candidate's
+// columns; column-pivoted QR of their R, computed by blocks of rows:
+// collinear columns give a rank-deficient fit, which is reported as not
+// ok); the errors' sums of squares in the recorded effort's units (`gain`:
+// the actuator-gain columns among [X xk]).
 // The covariance takes each joint's residual variance from its own rows
 // (rows stacked sample-major, `joints` per sample): (X^T X)^-1 (sum_a
 // sigma_a^2 X_a^T X_a) (X^T X)^-1. The rows are weighted by each joint's
@@ -50,45 +56,106 @@ void to_recorded_units(Eigen::VectorXd& r, const Eigen::MatrixXd& X, const Eigen
 // armature along a motion that drives the shoulder hard came out 1.3x too
 // uncertain, the shoulder's damping as much too sure). With equal
 // variances this is sigma^2 (X^T X)^-1.
-Fit least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const Eigen::MatrixXd& Xv,
-                  const Eigen::VectorXd& yv, Eigen::Index joints, const std::vector<char>& gain = {}) {
+Fit least_squares(Part X, Part xk, const Eigen::VectorXd& y, Part Xv, Part xvk, const Eigen::VectorXd& yv,
+                  Eigen::Index joints, const std::vector<char>& gain = {}) {
     Fit f;
-    if (X.cols() == 0) {
+    heartbeat();
+    const Eigen::Index p = X.cols() + xk.cols(), n = y.size();
+    if (p == 0) {
         f.theta.resize(0);
         f.sse_fit = y.squaredNorm(), f.sse_validation = yv.squaredNorm(), f.ok = true;
         return f;
     }
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+    const Eigen::MatrixXd Ry = tall_r({X, xk, y});
+    f.R = Ry.topLeftCorner(p, p);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(f.R);
     qr.setThreshold(1e-10);
-    if (qr.rank() < X.cols()) return f;
-    f.theta = qr.solve(y);
-    Eigen::VectorXd r = y - X * f.theta, rv = yv - Xv * f.theta;
-    const Eigen::VectorXd linear = r;
-    const double linear_sse = r.squaredNorm();
-    to_recorded_units(r, X, f.theta, gain);
-    to_recorded_units(rv, Xv, f.theta, gain);
-    f.sse_fit = r.squaredNorm();
-    f.sse_validation = rv.squaredNorm();
-    const Eigen::MatrixXd XtX = X.transpose() * X;
-    const Eigen::MatrixXd inverse = XtX.ldlt().solve(Eigen::MatrixXd::Identity(X.cols(), X.cols()));
-    // Each joint's rows keep their share of the degrees of freedom.
-    const double keep = std::max(1.0, double(X.rows() - X.cols())) / double(X.rows());
-    Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(X.cols(), X.cols());
+    if (qr.rank() < p) return f;
+    f.theta = qr.solve(Eigen::VectorXd(Ry.col(p).head(p)));
     const Eigen::Index A = std::max<Eigen::Index>(1, joints);
-    if (A == 1 || X.rows() % A != 0) {
-        spread = (linear_sse / (keep * double(X.rows()))) * XtX;
-    } else {
-        const Eigen::Index samples = X.rows() / A;
-        using Rows = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
-        for (Eigen::Index a = 0; a < A; ++a) {
-            const Rows Xa(X.data() + a, samples, X.cols(), Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(X.rows(), A));
-            const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> ra(linear.data() + a, samples, Eigen::InnerStride<>(A));
-            spread.noalias() += (ra.squaredNorm() / (keep * double(samples))) * (Xa.transpose() * Xa);
+    const bool per_joint = A > 1 && n % A == 0;
+    const Eigen::Index block = tall_block_rows(A);
+    std::vector<Eigen::MatrixXd> gram(per_joint ? size_t(A) : 0, Eigen::MatrixXd::Zero(p, p));
+    Eigen::VectorXd joint_sse = Eigen::VectorXd::Zero(A);
+    Eigen::MatrixXd B;
+    Eigen::VectorXd r;
+    // The residual of rows [from, from + rows) of (Xp, yp) in recorded units,
+    // its linear sum of squares per joint added to `joint_sse`.
+    auto residual = [&](Part Xp, Part xp, const Eigen::VectorXd& yp, Eigen::Index from, Eigen::Index rows, bool fit_rows) {
+        B.resize(rows, p);
+        B.leftCols(X.cols()) = Xp.middleRows(from, rows), B.rightCols(xk.cols()) = xp.middleRows(from, rows);
+        r = yp.segment(from, rows) - B * f.theta;
+        if (fit_rows)
+            for (Eigen::Index i = 0; i < rows; ++i) joint_sse[(from + i) % A] += r[i] * r[i];
+        for (Eigen::Index j = 0; j < p && size_t(j) < gain.size(); ++j) {
+            const double g = 1 - f.theta[j];
+            if (!gain[size_t(j)] || !(g > 0)) continue;
+            for (Eigen::Index i = 0; i < rows; ++i)
+                if (B(i, j) != 0) r[i] /= g;
         }
+        return r.squaredNorm();
+    };
+    for (Eigen::Index from = 0; from < n; from += block) {
+        heartbeat();
+        const Eigen::Index rows = std::min(block, n - from);
+        f.sse_fit += residual(X, xk, y, from, rows, true);
+        using Rows = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+        for (size_t a = 0; a < gram.size(); ++a) {
+            const Rows Ba(B.data() + a, rows / A, p, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(rows, A));
+            gram[a].noalias() += Ba.transpose() * Ba;
+        }
+    }
+    for (Eigen::Index from = 0; from < yv.size(); from += block) {
+        heartbeat();
+        f.sse_validation += residual(Xv, xvk, yv, from, std::min(block, yv.size() - from), false);
+    }
+    // (X^T X)^-1 = R^-1 R^-T: X^T X itself would square the condition number.
+    const Eigen::MatrixXd R_inverse = f.R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
+    const Eigen::MatrixXd inverse = R_inverse * R_inverse.transpose();
+    // Each joint's rows keep their share of the degrees of freedom.
+    const double keep = std::max(1.0, double(n - p)) / double(n);
+    Eigen::MatrixXd spread = Eigen::MatrixXd::Zero(p, p);
+    if (!per_joint) {
+        spread = (joint_sse.sum() / (keep * double(n))) * (f.R.transpose() * f.R);
+    } else {
+        const double samples = double(n / A);
+        for (size_t a = 0; a < gram.size(); ++a) spread.noalias() += (joint_sse[Eigen::Index(a)] / (keep * samples)) * gram[a];
     }
     f.covariance = inverse * spread * inverse;
     f.ok = f.theta.allFinite();
     return f;
+}
+
+Fit least_squares(Part X, const Eigen::VectorXd& y, Part Xv, const Eigen::VectorXd& yv, Eigen::Index joints,
+                  const std::vector<char>& gain = {}) {
+    return least_squares(X, Eigen::MatrixXd(X.rows(), 0), y, Xv, Eigen::MatrixXd(Xv.rows(), 0), yv, joints, gain);
+}
+
+// Whether a candidate's columns (the last of a fit's R, after `named`) add
+// nothing the named causes' columns do not already span, to the
+// same-column correlation: the smallest singular value of an orthonormal
+// basis of them, less what the named columns explain, below `least_new`.
+// From R alone: with [X xk] = Q R, that part of the basis xk Rk^-1 is
+// Q2 R22 Rk^-1, where Rk^T Rk = xk^T xk = R12^T R12 + R22^T R22.
+bool spanned(const Eigen::MatrixXd& R, Eigen::Index named, double least_new) {
+    const Eigen::Index c = R.cols() - named;
+    if (named == 0 || c == 0) return false;
+    const Eigen::HouseholderQR<Eigen::MatrixXd> own(R.rightCols(c));
+    const Eigen::MatrixXd Rk = own.matrixQR().topRows(c).triangularView<Eigen::Upper>();
+    const Eigen::MatrixXd R22 = R.bottomRightCorner(c, c).triangularView<Eigen::Upper>();
+    const Eigen::MatrixXd basis_left = Rk.transpose().triangularView<Eigen::Lower>().solve(R22.transpose()).transpose();
+    return Eigen::JacobiSVD<Eigen::MatrixXd>(basis_left).singularValues().minCoeff() < least_new;
+}
+
+// |cos| of the angle between what X's columns leave of a and of b (0 where
+// they leave nothing of one): from R of [X a b], what is left of a is
+// q_a r_aa, of b q_a r_ab + q_b r_bb.
+double unexplained_correlation(Part X, Part a, Part b) {
+    const Eigen::MatrixXd R = tall_r({X, a, b});
+    const Eigen::Index p = X.cols();
+    const double raa = R(p, p), rab = R(p, p + 1), rbb = R(p + 1, p + 1);
+    const double left_b = std::hypot(rab, rbb);
+    return raa != 0 && left_b > 0 ? std::abs(rab) / left_b : 0;
 }
 
 double percent(double sse, const Eigen::VectorXd& measured) {
@@ -126,7 +193,10 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
 
     std::vector<Candidate> candidates = catalogue(m, fit);
     std::vector<Eigen::MatrixXd> cols, cols_v;
-    for (const Candidate& c : candidates) cols.push_back(c.columns(fit)), cols_v.push_back(c.columns(validation));
+    for (const Candidate& c : candidates) {
+        heartbeat();
+        cols.push_back(c.columns(fit)), cols_v.push_back(c.columns(validation));
+    }
 
     std::vector<size_t> chosen;
     Eigen::MatrixXd X(y.size(), 0), Xv(yv.size(), 0);
@@ -172,9 +242,8 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 heartbeat();
                 const Candidate& c = candidates[k];
                 if (c.kind().refinement != Refinement::GridAndSpeeds || taken(c)) continue;
-                Eigen::MatrixXd X2(X.rows(), X.cols() + 1);
-                X2 << X, cols[k];
-                const Fit f = least_squares(X2, y, Eigen::MatrixXd::Zero(0, X2.cols()), Eigen::VectorXd(0), joints, with_gain(k));
+                const Fit f = least_squares(X, cols[k], y, Eigen::MatrixXd(0, X.cols()), Eigen::MatrixXd(0, cols[k].cols()),
+                                            Eigen::VectorXd(0), joints, with_gain(k));
                 if (f.ok && f.sse_fit < best_sse[size_t(c.dof)]) best_sse[size_t(c.dof)] = f.sse_fit, best_at[size_t(c.dof)] = int(k);
             }
             for (int k : best_at)
@@ -184,33 +253,17 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         // same-column correlation) adds nothing but a fit to the noise, with
         // huge opposite coefficients: a centre of mass moved across the last
         // link after that joint's sensor offset, say.
-        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> named_qr;
-        if (X.cols() > 0) named_qr.compute(X);
         const double least_new = std::sqrt(std::max(0.0, 1 - options.same_column_correlation * options.same_column_correlation));
-        // (Any combination of its columns: an orthonormal basis of them,
-        // less what the named columns explain, has a small singular value.)
-        auto spanned = [&](const Eigen::MatrixXd& ck) {
-            if (X.cols() == 0 || ck.cols() == 0) return false;
-            const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ck);
-            const Eigen::MatrixXd basis = qr.householderQ() * Eigen::MatrixXd::Identity(ck.rows(), ck.cols());
-            const Eigen::MatrixXd left = basis - X * named_qr.solve(basis);
-            const Eigen::JacobiSVD<Eigen::MatrixXd> svd(left);
-            return svd.singularValues().minCoeff() < least_new;
-        };
         for (size_t k = 0; k < candidates.size(); ++k) {
             heartbeat();
             if (taken(candidates[k])) continue;
             const Refinement refinement = candidates[k].kind().refinement;
             if (refinement == Refinement::GridAndSpeeds && !grid_best[k]) continue;
-            if (spanned(cols[k])) continue;
             auto fit_with = [&](const Eigen::MatrixXd& ck, const Eigen::MatrixXd& cvk) {
-                Eigen::MatrixXd X2(X.rows(), X.cols() + ck.cols()), Xv2(Xv.rows(), Xv.cols() + cvk.cols());
-                X2 << X, ck;
-                Xv2 << Xv, cvk;
-                return least_squares(X2, y, Xv2, yv, joints, with_gain(k));
+                return least_squares(X, ck, y, Xv, cvk, yv, joints, with_gain(k));
             };
             Fit f = fit_with(cols[k], cols_v[k]);
-            if (!f.ok) continue;
+            if (!f.ok || spanned(f.R, X.cols(), least_new)) continue;
             // Nonlinear settings, refined on the fit records along with the causes named so far.
             if (refinement == Refinement::ExactLag) {
                 // The exact lag: the column at setting d has the delay as its
@@ -359,13 +412,6 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         // as the first in the catalogue with a warning; merely close ones
         // are not named at all.
         {
-            Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qx;
-            if (X.cols() > 0) qx.compute(X);  // (Eigen's QR of no columns faults)
-            auto unexplained = [&](const Eigen::VectorXd& col) -> Eigen::VectorXd {
-                if (X.cols() == 0) return col;
-                return col - X * qx.solve(col);
-            };
-            const Eigen::VectorXd rb = unexplained(cols[size_t(best)].col(0));
             const Candidate& cb = candidates[size_t(best)];
             int close = -1;
             double close_r = 0, rival_r = 0;
@@ -373,7 +419,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
             for (size_t k = 0; k < candidates.size(); ++k) {
                 const Candidate& o = candidates[k];
                 if (int(k) == best || !(gain_of[k] > 0.5 * best_gain) || o.cause == cb.cause) continue;
-                const double r = std::abs(correlation(rb, unexplained(cols[k].col(0))));
+                const double r = unexplained_correlation(X, cols[size_t(best)].col(0), cols[k].col(0));
                 const double e_rival = percent(current.sse_validation - gain_of[k], meas_v),
                              e_best = percent(current.sse_validation - best_gain, meas_v), floor = options.noise_level;
                 const bool near_noise = std::isfinite(floor) && floor > 0 && e_best <= 2 * floor;
@@ -447,11 +493,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
                 carried_with[carried] = others.str();
                 if (int(carried) != best) {
                     best = int(carried);
-                    Eigen::MatrixXd X2(X.rows(), X.cols() + cols[size_t(best)].cols()),
-                        Xv2(Xv.rows(), Xv.cols() + cols_v[size_t(best)].cols());
-                    X2 << X, cols[size_t(best)];
-                    Xv2 << Xv, cols_v[size_t(best)];
-                    best_fit = least_squares(X2, y, Xv2, yv, joints, with_gain(size_t(best)));
+                    best_fit = least_squares(X, cols[size_t(best)], y, Xv, cols_v[size_t(best)], yv, joints, with_gain(size_t(best)));
                     if (!best_fit.ok) break;
                 }
             }

@@ -186,7 +186,9 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                             "' has a measured effort but no measured position in every record");
     ClosedChain chain = closed_chain(m, measured);
     const size_t na = rows.actuated.size();
-    std::vector<RowSample> kept;
+    // (A deque: a vector grown by doubling moved a million-sample record's
+    // rows about in pauses of up to 75 ms.)
+    std::deque<RowSample> kept;
     constexpr size_t kMinimumRows = 10;
     // Errors are sums of squares: an effort beyond 1e150 squares to
     // infinity and every percentage after it is NaN or infinite (a record of
@@ -215,7 +217,7 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
         const int record = int(rows.record_period.size());
         rows.record_period.push_back(dt), rows.record_cutoff.push_back(cutoff);
         rows.record_effort.emplace_back(Eigen::Index(n), Eigen::Index(na));
-        rows.record_velocity.push_back(Eigen::MatrixXd::Zero(Eigen::Index(n), m.nv));
+        rows.record_velocity.emplace_back(Eigen::Index(n), m.nv);  // (set below, with beats)
         for (size_t a = 0; a < na; ++a) {
             const std::vector<double>& raw = r->find(Quantity::Effort, rows.actuated[a])->values;
             for (size_t k = 0; k < raw.size(); ++k)
@@ -227,10 +229,18 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                 }
             effort[a] = low_pass(raw, dt, cutoff);
             rate[a] = derivative(effort[a], dt);
-            for (size_t k = 0; k < n; ++k) rows.record_effort.back()(Eigen::Index(k), Eigen::Index(a)) = effort[a][k];
+            for (size_t k = 0; k < n; ++k) {
+                if ((k & 4095) == 0) heartbeat();
+                rows.record_effort.back()(Eigen::Index(k), Eigen::Index(a)) = effort[a][k];
+            }
         }
-        for (int dof : chain.independent)
-            for (size_t k = 0; k < n; ++k) rows.record_velocity.back()(Eigen::Index(k), dof) = qd[size_t(dof)][k];
+        for (int dof = 0; dof < m.nv; ++dof) {
+            const std::vector<double>& speed = qd[size_t(dof)];  // empty: not an independent coordinate
+            for (size_t k = 0; k < n; ++k) {
+                if ((k & 4095) == 0) heartbeat();
+                rows.record_velocity.back()(Eigen::Index(k), dof) = speed.empty() ? 0.0 : speed[k];
+            }
+        }
         // Decimate to about four samples per cutoff period (neighbouring
         // rows of filtered data carry no new information and would make the
         // standard errors look smaller than they are); drop the ends, where
@@ -265,6 +275,11 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                         std::to_string(kMinimumRows) + " are needed (" + rows_of_records +
                         "); longer records, or a higher filter cutoff, give more");
     fill_rows(m, chain, kept, rows);
+    // (let go a sample at a time: millions of them take a while to free)
+    while (!kept.empty()) {
+        if ((kept.size() & 4095) == 0) heartbeat();
+        kept.pop_back();
+    }
     // (the measured efforts were checked as read; what the filter made of them is too)
     constexpr double kLargest = kLargestEffort;
     for (Eigen::Index s = 0; s < Eigen::Index(rows.samples); ++s)
@@ -301,7 +316,7 @@ std::vector<double> effort_weights(const RegressionRows& rows) {
     return weight;
 }
 
-void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& kept, RegressionRows& rows,
+void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSample>& kept, RegressionRows& rows,
                unsigned parts) {
     const size_t na = rows.actuated.size();
     std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
@@ -314,11 +329,18 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
     rows.q.resize(S, m.nq), rows.qd.resize(S, m.nv), rows.qdd.resize(S, m.nv);
     rows.effort.resize(S, A), rows.effort_rate.resize(S, A), rows.model_effort.resize(S, A);
     const bool positions = parts & kPositionSensitivity, gravity = parts & kGravityShares, inertial = parts & kInertialRegressor;
-    rows.effort_by_position.assign(positions ? size_t(m.nv) : 0, Eigen::MatrixXd::Zero(S, A));
-    rows.effort_by_position2 = rows.effort_by_position;
-    rows.inertial_regressor.assign(inertial ? size_t(m.body_count()) : 0, Eigen::MatrixXd::Zero(S * A, kInertialParameters));
+    // (Left unset here and zeroed a sample at a time below: on a long record
+    // they are hundreds of MB, ten columns per body and row, and setting
+    // them in one go held the progress callback back for a second.)
+    auto unset = [](std::vector<Eigen::MatrixXd>& v, size_t count, Eigen::Index r, Eigen::Index c) {
+        v.resize(count);
+        for (Eigen::MatrixXd& x : v) x.resize(r, c);
+    };
+    unset(rows.effort_by_position, positions ? size_t(m.nv) : 0, S, A);
+    unset(rows.effort_by_position2, positions ? size_t(m.nv) : 0, S, A);
+    unset(rows.inertial_regressor, inertial ? size_t(m.body_count()) : 0, S * A, kInertialParameters);
     rows.gravity = m.gravity;
-    rows.effort_by_gravity.assign(gravity ? 3 : 0, Eigen::MatrixXd::Zero(S, A));
+    unset(rows.effort_by_gravity, gravity ? 3 : 0, S, A);
     sim::Model held = m;  // its gravity set to each world axis in turn
     sim::Data d(m), probe(m), unit_data(unit), held_data(held);
     // The actuated efforts the model needs at a sample (positions in dd.q,
@@ -364,6 +386,8 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
         rows.q.row(s) = q_full.transpose(), rows.qd.row(s) = qd_full.transpose(), rows.qdd.row(s) = qdd_full.transpose();
         rows.effort.row(s) = x.effort.transpose(), rows.effort_rate.row(s) = x.rate.transpose();
         rows.model_effort.row(s) = base.transpose();
+        for (size_t dof = 0; dof < rows.effort_by_position.size(); ++dof)
+            rows.effort_by_position[dof].row(s).setZero(), rows.effort_by_position2[dof].row(s).setZero();
         // Sensitivity to each measured position (a sensor offset shifts the
         // whole measured motion by it; in a loop the others follow).
         // Central differences: the second derivative makes a sensor offset's
@@ -402,6 +426,7 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSam
         // every body's acceleration; a body's ten columns then cost its
         // depth, not another inverse dynamics per parameter.
         if (!inertial) continue;
+        for (Eigen::MatrixXd& R : rows.inertial_regressor) R.middleRows(s * A, A).setZero();
         unit_data.q = q_full, unit_data.v = qd_full;
         sim::update_kinematics(unit, unit_data);
         sim::inverse_dynamics(unit, unit_data, qdd_full, tau);

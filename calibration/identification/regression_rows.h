@@ -4,6 +4,7 @@
 // what the causes (calibration/causes.h) must explain.
 #pragma once
 #include <cmath>
+#include <deque>
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -131,7 +132,7 @@ enum RowPart : unsigned {
 
 // The rows at `samples` (rows.actuated set): the loops closed, the model's
 // efforts and the `parts` asked for; rows.weight is left as it is.
-void fill_rows(const sim::Model& m, ClosedChain& chain, const std::vector<RowSample>& samples, RegressionRows& rows,
+void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSample>& samples, RegressionRows& rows,
                unsigned parts = kAllRowParts);
 
 // Per actuated coordinate 1 / RMS of rows.effort: each joint weighs by its

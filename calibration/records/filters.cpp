@@ -3,9 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/heartbeat.h"
+
 namespace mbx::calibration {
 
 namespace {
+
+// Samples between beats of the current run's heartbeat (a power of two): a
+// record of millions of samples is filtered in one call.
+constexpr size_t kBeatSamples = 4096;
 
 struct Biquad {
     double b0, b1, b2, a1, a2;
@@ -31,7 +37,9 @@ void pass(const Biquad& f, std::vector<double>& x) {
     if (x.empty()) return;
     const double x0 = x[0];
     double x1 = x0, x2 = x0, y1 = x0, y2 = x0;
-    for (double& v : x) {
+    for (size_t k = 0; k < x.size(); ++k) {
+        if ((k & (kBeatSamples - 1)) == 0) heartbeat();
+        double& v = x[k];
         const double y = f.b0 * v + f.b1 * x1 + f.b2 * x2 - f.a1 * y1 - f.a2 * y2;
         x2 = x1, x1 = v, y2 = y1, y1 = y;
         v = y;
@@ -45,26 +53,37 @@ std::vector<double> low_pass(const std::vector<double>& x, double dt, double cut
     if (n < 3 || !(cutoff > 0) || cutoff >= 0.5 / dt) return x;
     // Pad by point reflection (2 x0 - x[k]) over a few time constants of the filter.
     const size_t pad = std::min(n - 1, size_t(std::ceil(3.0 / (cutoff * dt))));
+    // (Filled as it goes, with beats: on a record of millions of samples a
+    // fresh vector's page faults alone take tens of milliseconds.)
     std::vector<double> y;
     y.reserve(n + 2 * pad);
     for (size_t k = pad; k >= 1; --k) y.push_back(2 * x[0] - x[k]);
-    y.insert(y.end(), x.begin(), x.end());
+    for (size_t k = 0; k < n; k += kBeatSamples) {
+        heartbeat();
+        y.insert(y.end(), x.begin() + long(k), x.begin() + long(std::min(n, k + kBeatSamples)));
+    }
     for (size_t k = 1; k <= pad; ++k) y.push_back(2 * x[n - 1] - x[n - 1 - k]);
     const Biquad f = butterworth(dt, cutoff);
     pass(f, y);
     std::reverse(y.begin(), y.end());
     pass(f, y);
     std::reverse(y.begin(), y.end());
-    return std::vector<double>(y.begin() + long(pad), y.begin() + long(pad + n));
+    y.erase(y.begin(), y.begin() + long(pad));
+    y.resize(n);
+    return y;
 }
 
 std::vector<double> derivative(const std::vector<double>& x, double dt) {
     const size_t n = x.size();
-    std::vector<double> d(n, 0.0);
-    if (n < 2) return d;
-    d[0] = (x[1] - x[0]) / dt;
-    d[n - 1] = (x[n - 1] - x[n - 2]) / dt;
-    for (size_t k = 1; k + 1 < n; ++k) d[k] = (x[k + 1] - x[k - 1]) / (2 * dt);
+    if (n < 2) return std::vector<double>(n, 0.0);
+    std::vector<double> d;
+    d.reserve(n);
+    d.push_back((x[1] - x[0]) / dt);
+    for (size_t k = 1; k + 1 < n; ++k) {
+        if ((k & (kBeatSamples - 1)) == 0) heartbeat();
+        d.push_back((x[k + 1] - x[k - 1]) / (2 * dt));
+    }
+    d.push_back((x[n - 1] - x[n - 2]) / dt);
     return d;
 }
 
