@@ -1,5 +1,8 @@
 // No exception crosses the C boundary: every entry point runs its body here.
 #pragma once
+#include <sys/resource.h>
+
+#include <cstdio>
 #include <cstring>
 #include <new>
 
@@ -12,6 +15,21 @@ namespace mbx {
     throw Error(MBX_ERROR_INVALID_ARGUMENT, Subject{}, what);
 }
 
+// What a host reads when an allocation failed. Under an address-space limit
+// (ulimit -v, a container's) that limit is what ran out: named, with its
+// size, so the user knows what to raise (docs/limits.md, "Memory").
+inline std::string out_of_memory_message() {
+    rlimit limit{};
+    if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY)
+        return "out of memory: the system could not give the run the memory it asked for";
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "out of memory: the run needed more than the process's address-space limit of %.4g MiB "
+                  "(RLIMIT_AS, ulimit -v)",
+                  double(limit.rlim_cur) / (1024.0 * 1024.0));
+    return text;
+}
+
 template <class Body>
 mbx_status guarded(mbx_context* context, Body&& body) {
     try {
@@ -21,7 +39,7 @@ mbx_status guarded(mbx_context* context, Body&& body) {
     } catch (const Error& e) {
         return context ? context->fail(e.status(), e.what(), e.subject(), e.file(), e.line()) : e.status();
     } catch (const std::bad_alloc&) {
-        return context ? context->fail(MBX_ERROR_OUT_OF_MEMORY, "out of memory") : MBX_ERROR_OUT_OF_MEMORY;
+        return context ? context->fail(MBX_ERROR_OUT_OF_MEMORY, out_of_memory_message()) : MBX_ERROR_OUT_OF_MEMORY;
     } catch (const std::exception& e) {
         return context ? context->fail(MBX_ERROR_INTERNAL, std::string("internal error: ") + e.what())
                        : MBX_ERROR_INTERNAL;

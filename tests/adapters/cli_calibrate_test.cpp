@@ -4,6 +4,8 @@
 // calibrated errors), and refusals that exit non-zero and write nothing.
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include <doctest/doctest.h>
@@ -11,6 +13,8 @@
 #include "adapter_test_support.h"
 #include "cli_support.h"
 #include "tests/common/near.h"
+#include "tests/common/skip.h"
+#include "tests/common/slow_build.h"
 
 namespace MBX_UNITY_ID {
 
@@ -83,4 +87,80 @@ TEST_CASE("cli calibrate: usage errors and bad experiments exit non-zero and wri
     CHECK(r.err.find("no drive") != std::string::npos);
     CHECK(!std::filesystem::exists(out));
 }
+
+// `mbx calibrate` under an address-space limit (ulimit -v, RLIMIT_AS; issue
+// 28): from the least limit the CLI starts under (its libraries' mappings)
+// up to 1 GiB, every run on a 100 000-sample record (the EMPS training
+// record four times) either calibrates, writing its three files, or stops
+// with the out-of-memory status naming the limit and its size, writing
+// nothing; never an abort, a crash or a bare "out of memory". (Release
+// only: AddressSanitizer reserves terabytes of address space for itself.)
+TEST_CASE("cli calibrate: under an address-space limit it calibrates or stops naming the limit") {
+    if (kSlowBuild) MBX_SKIP("AddressSanitizer cannot run under an address-space limit (and the debug build's needs differ)");
+    atest::TempDir dir("mbx_cli_calibrate_rlimit");
+    {
+        std::ifstream in(mbx_test::shared_data("measured/emps/emps_train.csv"));
+        REQUIRE(in);
+        std::string header, line;
+        std::getline(in, header);
+        std::vector<std::string> rows;
+        while (std::getline(in, line))
+            if (!line.empty()) rows.push_back(line.substr(line.find(',')));
+        std::ofstream out(dir.file("long.csv"));
+        out << header << "\n";
+        long k = 0;
+        for (int repeat = 0; repeat < 4; ++repeat)
+            for (const std::string& r : rows) out << k * 1e-3 << r << "\n", ++k;
+        std::ifstream experiment(kExperiment);
+        std::stringstream text;
+        text << experiment.rdbuf();
+        std::string xml = text.str();
+        const std::string train = "../../../shared/data/measured/emps/emps_train.csv",
+                          pulses = "../../../shared/data/measured/emps/emps_test_pulses.csv";
+        REQUIRE(xml.find(train) != std::string::npos);
+        xml.replace(xml.find(train), train.size(), dir.file("long.csv"));
+        xml.replace(xml.find(pulses), pulses.size(), mbx_test::shared_data("measured/emps/emps_test_pulses.csv"));
+        std::ofstream(dir.file("experiment.xml")) << xml;
+    }
+    auto under = [&](long kib, const std::string& arguments) {
+        const std::string command = "ulimit -v " + std::to_string(kib) + " && exec '" + std::string(MBX_CLI_PATH) + "' " +
+                                    arguments + " >'" + dir.file("stdout") + "' 2>'" + dir.file("stderr") + "'";
+        const int status = std::system(command.c_str());
+        atest::CliRun r;
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.out = atest::read_file(dir.file("stdout")), r.err = atest::read_file(dir.file("stderr"));
+        return r;
+    };
+    // The least limit (KiB, in steps of 4 MiB) the CLI starts under at all.
+    long floor = 0;
+    for (long kib = 32 * 1024; kib <= 1024 * 1024 && floor == 0; kib += 4 * 1024)
+        if (under(kib, "--version").code == 0) floor = kib;
+    REQUIRE(floor > 0);
+    int calibrated = 0, refused = 0;
+    for (long kib = floor; kib <= 1024 * 1024; kib = kib < floor + 32 * 1024 ? kib + 4 * 1024 : kib * 2) {
+        const std::string out = dir.file("out" + std::to_string(kib));
+        const atest::CliRun r = under(kib, "calibrate '" + kEmps + "' --drives '" + kDrives + "' --experiment '" +
+                                               dir.file("experiment.xml") + "' -o '" + out + "'");
+        CAPTURE(kib);
+        INFO(r.out << r.err);
+        if (r.code == 0) {
+            ++calibrated;
+            for (const char* f : {"calibration.json", "calibration.html", "description.xml"})
+                CHECK(std::filesystem::exists(std::filesystem::path(out) / f));
+            CHECK(r.out.find("+ viscous_friction on joint 'BED--CARRIAGE'") != std::string::npos);
+        } else {
+            ++refused;
+            CHECK(r.code == 1);
+            CHECK(r.err.find("MBX_ERROR_OUT_OF_MEMORY") != std::string::npos);
+            char size[32];
+            std::snprintf(size, sizeof size, "%.4g MiB", double(kib) / 1024);
+            CHECK(r.err.find(std::string("address-space limit of ") + size) != std::string::npos);
+            CHECK(!std::filesystem::exists(out));
+        }
+    }
+    MESSAGE("starts under " << floor / 1024 << " MiB; " << refused << " limits refused, " << calibrated << " calibrated");
+    CHECK(refused >= 1);     // the record needs more than the CLI's start
+    CHECK(calibrated >= 4);  // and from some limit on, every larger one (up to 1 GiB) is enough
+}
+
 }  // namespace MBX_UNITY_ID
