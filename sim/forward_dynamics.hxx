@@ -23,7 +23,7 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
             articulated_body(m, d, d.qfrc_total, d.qacc);
             return;
         } catch (const UndeterminedJoint& u) {
-            throw_undetermined(m, u.joint);
+            throw_undetermined(m, d, u.joint);
         }
     }
     mass_matrix(m, d);
@@ -74,7 +74,7 @@ void forward_dynamics(const ModelT<S>& m, DataT<S>& d, const MatXT<S>* extra_row
         int dof = 0;
         for (int k = 1; k < m.nv; ++k)
             if (std::fabs(dir[k]) > std::fabs(dir[dof])) dof = k;
-        throw_undetermined(m, m.dof_joint[size_t(dof)]);
+        throw_undetermined(m, d, m.dof_joint[size_t(dof)]);
     }
     ldlt.solveInPlace(d.reduced_rhs);
     d.qacc = d.qacc_particular;

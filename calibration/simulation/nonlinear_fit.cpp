@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "calibration/cause_table.h"
@@ -17,6 +18,7 @@
 #include "calibration/simulation/replay.h"
 #include "core/finding.h"
 #include "core/heartbeat.h"
+#include "core/text_format.h"
 #include "sim/forward_dynamics.h"
 #include "sim/joint_forces.h"
 
@@ -96,6 +98,16 @@ struct SimulationProblem::Impl {
     // `start`: the window's start corrections (outputs' positions, then rates), or null.
     template <class S> bool simulate(const Window& w, const S* theta, const S* start, S* out) const;
     int start_size() const { return options.fit_start ? 2 * int(out_dof.size()) : 0; }
+
+    // The first evaluation that could not be completed, in words: what became
+    // non-finite, or the error that ended it, and where. A solve that fails
+    // on it says this rather than Ceres' "evaluation failed".
+    mutable std::mutex failure_mutex;
+    mutable std::string first_failure;
+    void note_failure(const std::string& what) const {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (first_failure.empty()) first_failure = what;
+    }
 };
 
 // An elastic transmission in a simulated window.
@@ -249,8 +261,11 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
     Vec k1, k2, k3, k4, tmp;
     double at = double(w.k0);
     S* r = out;
+    size_t sample = 1;
+    // (where in the record, for a message)
+    auto when = [&] { return " at t = " + readable(w.record->t[std::min(w.k0 + sample, w.record->t.size() - 1)]) + " s of " + w.record->path; };
     try {
-        for (size_t sample = 1; sample < w.n; ++sample) {
+        for (; sample < w.n; ++sample) {
             heartbeat();  // a cancel throws, and ends this evaluation as a failed one
             for (int sub = 0; sub < options.substeps; ++sub) {
                 const S half(step_seconds / 2), full(step_seconds), sixth(step_seconds / 6);
@@ -270,11 +285,16 @@ bool SimulationProblem::Impl::simulate(const Window& w, const S* theta, const S*
                 for (size_t e = 0; e < ne; ++e)
                     if (elastic[e].dof == d) y = x[nq + nv + 2 * int(e)];
                 const S res = (y - S(w.target[o][sample - 1])) / S(out_scale[o]);
-                if (!isfinite(scalar_of(res))) return false;
+                if (!isfinite(scalar_of(res))) {
+                    const sim::JointT<double>& j = model.joints[size_t(model.dof_joint[size_t(d)])];
+                    note_failure("joint '" + j.name + "''s simulated position became " + readable(scalar_of(y)) + when());
+                    return false;
+                }
                 *r++ = res;
             }
         }
-    } catch (const Error&) {
+    } catch (const Error& e) {
+        if (e.status() != MBX_ERROR_CANCELLED) note_failure(e.what() + when());
         return false;
     }
     return true;
@@ -549,7 +569,9 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
     out.windows = int(P.windows.size());
     out.residuals = P.residuals;
     Eigen::VectorXd r;
-    if (!evaluate(theta, r)) refuse("the simulation diverges at the starting parameters");
+    if (!evaluate(theta, r))
+        refuse("the simulation diverges at the starting parameters" +
+               (P.first_failure.empty() ? std::string() : ": " + P.first_failure));
     out.initial_error = error_percent(r);
 
     ceres::Problem::Options po;
@@ -596,6 +618,8 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
     out.converged = summary.termination_type == ceres::CONVERGENCE;
     out.report = summary.BriefReport();
     out.note = solver_note(summary, "the simulation fit");
+    if (summary.termination_type == ceres::FAILURE && !P.first_failure.empty())
+        out.note = "the simulation fit failed: " + P.first_failure;
 
     // Standard errors from the Jacobian at the optimum. A window's residuals
     // are one simulated trajectory, strongly correlated along it (an error in

@@ -122,24 +122,12 @@ TEST_CASE("cli calibrate: under an address-space limit it calibrates or stops na
         xml.replace(xml.find(pulses), pulses.size(), mbx_test::shared_data("measured/emps/emps_test_pulses.csv"));
         std::ofstream(dir.file("experiment.xml")) << xml;
     }
-    auto under = [&](long kib, const std::string& arguments) {
-        const std::string command = "ulimit -v " + std::to_string(kib) + " && exec '" + std::string(MBX_CLI_PATH) + "' " +
-                                    arguments + " >'" + dir.file("stdout") + "' 2>'" + dir.file("stderr") + "'";
-        const int status = std::system(command.c_str());
-        atest::CliRun r;
-        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        r.out = atest::read_file(dir.file("stdout")), r.err = atest::read_file(dir.file("stderr"));
-        return r;
-    };
-    // The least limit (KiB, in steps of 4 MiB) the CLI starts under at all.
-    long floor = 0;
-    for (long kib = 32 * 1024; kib <= 1024 * 1024 && floor == 0; kib += 4 * 1024)
-        if (under(kib, "--version").code == 0) floor = kib;
+    const long floor = atest::least_cli_address_space(dir);
     REQUIRE(floor > 0);
     int calibrated = 0, refused = 0;
     for (long kib = floor; kib <= 1024 * 1024; kib = kib < floor + 32 * 1024 ? kib + 4 * 1024 : kib * 2) {
         const std::string out = dir.file("out" + std::to_string(kib));
-        const atest::CliRun r = under(kib, "calibrate '" + kEmps + "' --drives '" + kDrives + "' --experiment '" +
+        const atest::CliRun r = atest::run_cli_under(dir, kib, "calibrate '" + kEmps + "' --drives '" + kDrives + "' --experiment '" +
                                                dir.file("experiment.xml") + "' -o '" + out + "'");
         CAPTURE(kib);
         INFO(r.out << r.err);

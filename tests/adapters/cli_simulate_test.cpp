@@ -13,6 +13,8 @@
 
 #include "adapter_test_support.h"
 #include "cli_support.h"
+#include "tests/common/skip.h"
+#include "tests/common/slow_build.h"
 #include "core/report/json_value.h"
 #include "tests/common/near.h"
 
@@ -135,6 +137,32 @@ TEST_CASE("cli simulate --progress: a long run shows its fraction, simulated sec
         CHECK(lines[k].find(" left") != std::string::npos);
         last_percent = percent;
     }
+}
+
+// A 1e9 s simulation under an address-space limit of 64 MiB above what the
+// CLI needs to start (issue 28; its samples once grew in memory, and the
+// accurate mode's sample times took 8 GB before the first step): a fixed-step
+// run keeps going within it until it is killed, never out of memory; the
+// accurate mode's trajectory that no disk could hold is refused by its size
+// before the run, with the free space named. (Release only: AddressSanitizer
+// cannot run under an address-space limit.)
+TEST_CASE("cli simulate: a 1e9 s run under an address-space limit runs within it or is refused by its size") {
+    if (kSlowBuild) MBX_SKIP("AddressSanitizer cannot run under an address-space limit (and the debug build's needs differ)");
+    atest::TempDir dir("mbx_cli_simulate_rlimit");
+    const long floor = atest::least_cli_address_space(dir);
+    REQUIRE(floor > 0);
+    const long limit = floor + 64 * 1024;
+    const std::string out = dir.file("out");
+    const Run running = atest::run_cli_under(dir, limit, "simulate fourbar --set rev_A.qd=2 --stop-time 1e9 --step 1e-2 "
+                                                         "--output-step 1e5 -o '" + out + "' --progress", 3);
+    INFO(running.err);
+    CHECK(running.code == 124);  // still running when timeout stopped it
+    CHECK(running.err.find("mbx: simulating") != std::string::npos);
+    CHECK(running.err.find("memory") == std::string::npos);
+    CHECK(!std::filesystem::exists(out + "/trajectory.csv"));
+    const Run refused = atest::run_cli_under(dir, limit, "simulate fourbar --stop-time 1e9 --integrator accurate -o '" + out + "'");
+    CHECK(refused.code == 1);
+    CHECK(refused.err.find("GiB free: raise the output step") != std::string::npos);
 }
 
 TEST_CASE("cli simulate: refusals exit non-zero, say why and write nothing") {
