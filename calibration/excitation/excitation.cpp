@@ -60,17 +60,14 @@ RegressionRows rows_along(const sim::Model& m, ClosedChain& chain, const std::ve
     RegressionRows rows;
     rows.actuated = dofs;
     const Eigen::Index na = Eigen::Index(dofs.size());
-    std::deque<RowSample> samples(motion.t.size());
-    for (size_t k = 0; k < samples.size(); ++k) {
-        RowSample& s = samples[k];
-        s.first = k == 0;
-        s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
+    RowSamples samples(m.nq, m.nv, na, Eigen::Index(motion.t.size()));
+    for (Eigen::Index k = 0; k < samples.size(); ++k) {
+        samples.start_row(k, m.q_reference, k == 0);
         for (size_t i = 0; i < dofs.size(); ++i) {
-            s.q[m.joints[size_t(m.dof_joint[size_t(dofs[i])])].q_index] = motion.q(Eigen::Index(k), Eigen::Index(i));
-            s.qd[dofs[i]] = motion.qd(Eigen::Index(k), Eigen::Index(i));
-            s.qdd[dofs[i]] = motion.qdd(Eigen::Index(k), Eigen::Index(i));
+            samples.q(m.joints[size_t(m.dof_joint[size_t(dofs[i])])].q_index, k) = motion.q(k, Eigen::Index(i));
+            samples.qd(dofs[i], k) = motion.qd(k, Eigen::Index(i));
+            samples.qdd(dofs[i], k) = motion.qdd(k, Eigen::Index(i));
         }
-        s.effort = Eigen::VectorXd::Zero(na), s.rate = Eigen::VectorXd::Zero(na);
     }
     fill_rows(m, chain, samples, rows, parts);
     // The model's own efforts stand for the measured ones (an actuator

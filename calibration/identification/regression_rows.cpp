@@ -186,9 +186,27 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                             "' has a measured effort but no measured position in every record");
     ClosedChain chain = closed_chain(m, measured);
     const size_t na = rows.actuated.size();
-    // (A deque: a vector grown by doubling moved a million-sample record's
-    // rows about in pauses of up to 75 ms.)
-    std::deque<RowSample> kept;
+    // Decimate to about four samples per cutoff period (neighbouring rows of
+    // filtered data carry no new information and would make the standard
+    // errors look smaller than they are); drop the ends, where the filter
+    // and the differences are least certain.
+    struct Decimation {
+        size_t step, edge, rows;
+    };
+    auto decimation = [&](const Record& r) {
+        const double fs = 1 / r.sample_period();
+        const double cutoff = options.cutoff > 0 ? options.cutoff : r.filter_cutoff();
+        Decimation d{std::max<size_t>(1, size_t(std::floor(fs / (4 * cutoff)))), size_t(std::ceil(fs / cutoff)), 0};
+        const size_t n = r.t.size();
+        d.rows = n > 2 * d.edge ? (n - 2 * d.edge - 1) / d.step + 1 : 0;
+        return d;
+    };
+    size_t all_rows = 0;
+    for (const Record* r : records) all_rows += decimation(*r).rows;
+    // (Allocated once: grown row by row, a million-sample record's rows were
+    // moved about in pauses of up to 75 ms.)
+    RowSamples kept(m.nq, m.nv, Eigen::Index(na), Eigen::Index(all_rows));
+    size_t at = 0;
     constexpr size_t kMinimumRows = 10;
     // Errors are sums of squares: an effort beyond 1e150 squares to
     // infinity and every percentage after it is NaN or infinite (a record of
@@ -241,45 +259,31 @@ RegressionRows regression_rows(const sim::Model& m, const std::vector<const Reco
                 rows.record_velocity.back()(Eigen::Index(k), dof) = speed.empty() ? 0.0 : speed[k];
             }
         }
-        // Decimate to about four samples per cutoff period (neighbouring
-        // rows of filtered data carry no new information and would make the
-        // standard errors look smaller than they are); drop the ends, where
-        // the filter and the differences are least certain.
-        const size_t step = std::max<size_t>(1, size_t(std::floor(fs / (4 * cutoff))));
-        const size_t edge = size_t(std::ceil(fs / cutoff));
-        const size_t before = kept.size();
-        for (size_t k = edge; k + edge < n; k += step) {
+        const auto [step, edge, record_rows] = decimation(*r);
+        for (size_t k = edge; k + edge < n; k += step, ++at) {
             heartbeat();
-            RowSample s;
-            s.first = k == edge;
+            const Eigen::Index s = Eigen::Index(at);
+            kept.start_row(s, m.q_reference, k == edge);
             rows.row_record.push_back(record), rows.row_sample.push_back(int(k));
-            s.q = m.q_reference, s.qd = Eigen::VectorXd::Zero(m.nv), s.qdd = Eigen::VectorXd::Zero(m.nv);
-            s.effort.resize(long(na)), s.rate.resize(long(na));
             for (int dof : chain.independent) {
                 const sim::JointT<double>& j = m.joints[size_t(m.dof_joint[size_t(dof)])];
-                s.q[j.q_index] = q[size_t(dof)][k];
-                s.qd[dof] = qd[size_t(dof)][k];
-                s.qdd[dof] = qdd[size_t(dof)][k];
+                kept.q(j.q_index, s) = q[size_t(dof)][k];
+                kept.qd(dof, s) = qd[size_t(dof)][k];
+                kept.qdd(dof, s) = qdd[size_t(dof)][k];
             }
-            for (size_t a = 0; a < na; ++a) s.effort[long(a)] = effort[a][k], s.rate[long(a)] = rate[a][k];
-            kept.push_back(std::move(s));
+            for (size_t a = 0; a < na; ++a) kept.effort(long(a), s) = effort[a][k], kept.rate(long(a), s) = rate[a][k];
         }
         rows_of_records += (rows_of_records.empty() ? "" : "; ") + r->path + ": " + std::to_string(n) + " samples, " +
-                           std::to_string(kept.size() - before) + " rows (" + std::to_string(edge) +
+                           std::to_string(record_rows) + " rows (" + std::to_string(edge) +
                            " dropped at each end, every " + std::to_string(step) + (step == 1 ? "" : "th") + " kept, for a " +
                            brief_number(cutoff) + " Hz filter at " + brief_number(fs) + " Hz)";
     }
-    if (kept.size() < kMinimumRows)
+    if (all_rows < kMinimumRows)
         throw Error(MBX_ERROR_INVALID_INPUT, Subject::model(m.name),
-                    "too few samples for identification: " + std::to_string(kept.size()) + " rows where at least " +
+                    "too few samples for identification: " + std::to_string(all_rows) + " rows where at least " +
                         std::to_string(kMinimumRows) + " are needed (" + rows_of_records +
                         "); longer records, or a higher filter cutoff, give more");
     fill_rows(m, chain, kept, rows);
-    // (let go a sample at a time: millions of them take a while to free)
-    while (!kept.empty()) {
-        if ((kept.size() & 4095) == 0) heartbeat();
-        kept.pop_back();
-    }
     // (the measured efforts were checked as read; what the filter made of them is too)
     constexpr double kLargest = kLargestEffort;
     for (Eigen::Index s = 0; s < Eigen::Index(rows.samples); ++s)
@@ -316,7 +320,7 @@ std::vector<double> effort_weights(const RegressionRows& rows) {
     return weight;
 }
 
-void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSample>& kept, RegressionRows& rows,
+void fill_rows(const sim::Model& m, ClosedChain& chain, const RowSamples& kept, RegressionRows& rows,
                unsigned parts) {
     const size_t na = rows.actuated.size();
     std::vector<Eigen::Index> actuated_at(na);  // position of each actuated coordinate among the independent ones
@@ -348,8 +352,8 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSamp
     // onto the independent coordinates when there are loops.
     Eigen::MatrixXd G;
     Eigen::VectorXd tau, qd, qdd;
-    auto needed = [&](sim::Data& dd, const RowSample& x, Eigen::VectorXd& out) {
-        qd = x.qd, qdd = x.qdd;
+    auto needed = [&](sim::Data& dd, Eigen::Index row, Eigen::VectorXd& out) {
+        qd = kept.qd.col(row), qdd = kept.qdd.col(row);
         if (chain.active()) chain.close(m, dd, qd, qdd, G);
         dd.v = qd;
         model_effort(m, dd, qdd, tau);
@@ -372,19 +376,19 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSamp
     Eigen::MatrixXd joint_share;
     for (Eigen::Index s = 0; s < S; ++s) {
         heartbeat(double(s) / double(S));
-        const RowSample& x = kept[size_t(s)];
+        const auto x_q = kept.q.col(s);
         // Dependent positions start from the last sample's (or the assembly pose at a record's start).
-        const Eigen::VectorXd start = x.first || s == 0 ? m.q_reference : Eigen::VectorXd(d.q);
+        const Eigen::VectorXd start = kept.first[size_t(s)] || s == 0 ? m.q_reference : Eigen::VectorXd(d.q);
         d.q = start;
         for (int dof : chain.independent) {
             const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
-            d.q[qi] = x.q[qi];
+            d.q[qi] = x_q[qi];
         }
-        needed(d, x, base);
+        needed(d, s, base);
         const Eigen::VectorXd q_full = d.q, qd_full = qd, qdd_full = qdd;
         const Eigen::MatrixXd G_here = G;
         rows.q.row(s) = q_full.transpose(), rows.qd.row(s) = qd_full.transpose(), rows.qdd.row(s) = qdd_full.transpose();
-        rows.effort.row(s) = x.effort.transpose(), rows.effort_rate.row(s) = x.rate.transpose();
+        rows.effort.row(s) = kept.effort.col(s).transpose(), rows.effort_rate.row(s) = kept.rate.col(s).transpose();
         rows.model_effort.row(s) = base.transpose();
         for (size_t dof = 0; dof < rows.effort_by_position.size(); ++dof)
             rows.effort_by_position[dof].row(s).setZero(), rows.effort_by_position2[dof].row(s).setZero();
@@ -395,13 +399,11 @@ void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSamp
         // be left for another cause).
         for (int dof : probed) {
             const int qi = m.joints[size_t(m.dof_joint[size_t(dof)])].q_index;
-            const double h = 1e-4 * std::max(1.0, std::abs(x.q[qi]));
+            const double h = 1e-4 * std::max(1.0, std::abs(x_q[qi]));
             for (int side : {1, -1}) {
                 probe.q = q_full;
                 probe.q[qi] += side * h;
-                RowSample shifted = x;
-                shifted.q[qi] += side * h;
-                needed(probe, shifted, side > 0 ? moved : moved_back);
+                needed(probe, s, side > 0 ? moved : moved_back);
             }
             rows.effort_by_position[size_t(dof)].row(s) = ((moved - moved_back) / (2 * h)).transpose();
             rows.effort_by_position2[size_t(dof)].row(s) = ((moved - 2 * base + moved_back) / (h * h)).transpose();

@@ -4,7 +4,6 @@
 // what the causes (calibration/causes.h) must explain.
 #pragma once
 #include <cmath>
-#include <deque>
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -110,12 +109,25 @@ inline bool explained_to_noise(double error, double noise_level) {
     return std::isfinite(noise_level) && noise_level > 0 && error <= 1.25 * noise_level;
 }
 
-// One row's motion before the model sees it: the independent coordinates'
-// positions (in a full q, the others a start), speeds and accelerations,
-// and the measured efforts and their rates per actuated coordinate.
-struct RowSample {
-    Eigen::VectorXd q, qd, qdd, effort, rate;
-    bool first = false;  // of its record: the loops are closed from the assembly pose
+// The rows' motion before the model sees it, a column per row: the
+// independent coordinates' positions (in a full q, the others a start),
+// speeds and accelerations, and the measured efforts and their rates per
+// actuated coordinate. (Columns of a few matrices rather than a vector each:
+// a million rows of small vectors took 600 MB and a 100 ms pause to free.)
+struct RowSamples {
+    Eigen::MatrixXd q, qd, qdd, effort, rate;
+    std::vector<char> first;  // of its record: the loops are closed from the assembly pose
+    // Room for `rows` rows, left unset: each is set by start_row and the
+    // caller (a long record's rows are touched as they are made).
+    RowSamples(Eigen::Index nq, Eigen::Index nv, Eigen::Index actuated, Eigen::Index rows)
+        : q(nq, rows), qd(nv, rows), qdd(nv, rows), effort(actuated, rows), rate(actuated, rows), first(size_t(rows), 0) {}
+    Eigen::Index size() const { return q.cols(); }
+    // Row `at` at the reference pose, at rest, no effort.
+    void start_row(Eigen::Index at, const Eigen::VectorXd& q_reference, bool first_of_record) {
+        q.col(at) = q_reference, qd.col(at).setZero(), qdd.col(at).setZero();
+        effort.col(at).setZero(), rate.col(at).setZero();
+        first[size_t(at)] = first_of_record;
+    }
 };
 
 struct ClosedChain;
@@ -132,7 +144,7 @@ enum RowPart : unsigned {
 
 // The rows at `samples` (rows.actuated set): the loops closed, the model's
 // efforts and the `parts` asked for; rows.weight is left as it is.
-void fill_rows(const sim::Model& m, ClosedChain& chain, const std::deque<RowSample>& samples, RegressionRows& rows,
+void fill_rows(const sim::Model& m, ClosedChain& chain, const RowSamples& samples, RegressionRows& rows,
                unsigned parts = kAllRowParts);
 
 // Per actuated coordinate 1 / RMS of rows.effort: each joint weighs by its
