@@ -14,9 +14,11 @@ struct CliRun {
     std::string out, err;
 };
 
-inline CliRun run_cli(const TempDir& dir, const std::string& arguments) {
-    const std::string command = std::string("'") + MBX_CLI_PATH + "' " + arguments + " >'" + dir.file("stdout") +
-                                "' 2>'" + dir.file("stderr") + "'";
+// `mbx arguments` through the shell, after `prefix` (shell commands that end
+// in `&& exec`, or nothing).
+inline CliRun run_cli_after(const TempDir& dir, const std::string& prefix, const std::string& arguments) {
+    const std::string command = prefix + "'" + MBX_CLI_PATH + "' " + arguments + " >'" + dir.file("stdout") + "' 2>'" +
+                                dir.file("stderr") + "'";
     const int status = std::system(command.c_str());
     CliRun r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -25,18 +27,13 @@ inline CliRun run_cli(const TempDir& dir, const std::string& arguments) {
     return r;
 }
 
+inline CliRun run_cli(const TempDir& dir, const std::string& arguments) { return run_cli_after(dir, "", arguments); }
+
 // The same under an address-space limit of `kib` KiB (ulimit -v, RLIMIT_AS),
 // killed after `seconds` when positive (exit 124, as timeout(1) says).
 inline CliRun run_cli_under(const TempDir& dir, long kib, const std::string& arguments, int seconds = 0) {
     const std::string timeout = seconds > 0 ? "timeout " + std::to_string(seconds) + " " : "";
-    const std::string command = "ulimit -v " + std::to_string(kib) + " && exec " + timeout + "'" + MBX_CLI_PATH + "' " +
-                                arguments + " >'" + dir.file("stdout") + "' 2>'" + dir.file("stderr") + "'";
-    const int status = std::system(command.c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = read_file(dir.file("stdout"));
-    r.err = read_file(dir.file("stderr"));
-    return r;
+    return run_cli_after(dir, "ulimit -v " + std::to_string(kib) + " && exec " + timeout, arguments);
 }
 
 // The least address-space limit (KiB, in steps of 4 MiB) the CLI starts
