@@ -59,7 +59,6 @@ using Part = Eigen::Ref<const Eigen::MatrixXd>;
 Fit least_squares(Part X, Part xk, const Eigen::VectorXd& y, Part Xv, Part xvk, const Eigen::VectorXd& yv,
                   Eigen::Index joints, const std::vector<char>& gain = {}) {
     Fit f;
-    heartbeat();
     const Eigen::Index p = X.cols() + xk.cols(), n = y.size();
     if (p == 0) {
         f.theta.resize(0);
@@ -87,12 +86,7 @@ Fit least_squares(Part X, Part xk, const Eigen::VectorXd& y, Part Xv, Part xvk, 
         r = yp.segment(from, rows) - B * f.theta;
         if (fit_rows)
             for (Eigen::Index i = 0; i < rows; ++i) joint_sse[(from + i) % A] += r[i] * r[i];
-        for (Eigen::Index j = 0; j < p && size_t(j) < gain.size(); ++j) {
-            const double g = 1 - f.theta[j];
-            if (!gain[size_t(j)] || !(g > 0)) continue;
-            for (Eigen::Index i = 0; i < rows; ++i)
-                if (B(i, j) != 0) r[i] /= g;
-        }
+        to_recorded_units(r, B, f.theta, gain);
         return r.squaredNorm();
     };
     for (Eigen::Index from = 0; from < n; from += block) {
@@ -124,11 +118,6 @@ Fit least_squares(Part X, Part xk, const Eigen::VectorXd& y, Part Xv, Part xvk, 
     f.covariance = inverse * spread * inverse;
     f.ok = f.theta.allFinite();
     return f;
-}
-
-Fit least_squares(Part X, const Eigen::VectorXd& y, Part Xv, const Eigen::VectorXd& yv, Eigen::Index joints,
-                  const std::vector<char>& gain = {}) {
-    return least_squares(X, Eigen::MatrixXd(X.rows(), 0), y, Xv, Eigen::MatrixXd(Xv.rows(), 0), yv, joints, gain);
 }
 
 // Whether a candidate's columns (the last of a fit's R, after `named`) add
@@ -206,7 +195,7 @@ Identification identify(const sim::Model& m, const RegressionRows& fit, const Re
         g.resize(X_gain.size() + size_t(cols[k].cols()), candidates[k].kind().id == CauseId::ActuatorGain);
         return g;
     };
-    Fit current = least_squares(X, y, Xv, yv, joints);
+    Fit current = least_squares(X, Eigen::MatrixXd(X.rows(), 0), y, Xv, Eigen::MatrixXd(Xv.rows(), 0), yv, joints);
     std::vector<size_t> refused;  // candidates the data could not tell from a named one
     std::map<size_t, std::string> carried_with;  // a named candidate: the group's others, in words
     auto taken = [&](const Candidate& c) {

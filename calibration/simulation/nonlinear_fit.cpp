@@ -565,6 +565,11 @@ SimulationFit SimulationProblem::solve(std::vector<double> theta) const {
     const auto t0 = std::chrono::steady_clock::now();
     if (theta.empty()) theta = start();
     if (int(theta.size()) != P.parameters) refuse("solve: wrong number of parameters");
+    {
+        // (what failed in an earlier evaluate() or solve() is not this solve's)
+        const std::lock_guard<std::mutex> lock(P.failure_mutex);
+        P.first_failure.clear();
+    }
     SimulationFit out;
     out.windows = int(P.windows.size());
     out.residuals = P.residuals;

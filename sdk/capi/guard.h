@@ -17,7 +17,7 @@ namespace mbx {
 
 // What a host reads when an allocation failed. Under an address-space limit
 // (ulimit -v, a container's) that limit is what ran out: named, with its
-// size, so the user knows what to raise (docs/limits.md, "Memory").
+// size, so the user knows what to raise (docs/limits.md, "Calibration memory").
 inline std::string out_of_memory_message() {
     rlimit limit{};
     if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY)
